@@ -1,0 +1,1 @@
+"""DSL layer: typed values, operators, intrinsics, variables, control flow, functions."""

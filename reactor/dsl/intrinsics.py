@@ -1,0 +1,219 @@
+"""Intrinsic functions of the DSL (capitalized, like Reactor's, so a star
+import never shadows Python's ``min``/``abs``/``round``).
+
+Each works on every kind and width for which ``reactor.ir.ops`` defines it.
+NaN behaviour:
+
+* ``Min(a, b)`` is ``a < b ? a : b`` and ``Max(a, b)`` is ``a > b ? a : b``
+  (x86 MINPS/MAXPS): if either operand is NaN the result is ``b``. So
+  ``Min(x, 1.0)`` turns NaN into 1.0 while ``Min(1.0, x)`` propagates it.
+* ``MinNum``/``MaxNum`` are IEEE 754-2008 minNum/maxNum: a NaN operand is
+  ignored (the other operand is returned).
+"""
+from __future__ import annotations
+
+from llvmlite import ir
+
+from ..errors import DSLTypeError, FmaDisabledError, WidthMismatchError
+from ..ir import emitter as _em
+from ..ir import ops
+from .types import KINDS, VType
+from .values import Value, binary, common_type, to_ir, unary, value_class
+
+
+def _binary_fn(op: str, doc: str):
+    def fn(a, b):
+        return binary(op, a, b, what=fn.__name__)
+
+    fn.__doc__ = doc
+    return fn
+
+
+def _unary_fn(op: str, doc: str):
+    def fn(x):
+        return unary(op, x, what=fn.__name__)
+
+    fn.__doc__ = doc
+    return fn
+
+
+Min = _binary_fn("min", "Lane-wise minimum; a < b ? a : b for floats (NaN -> b).")
+Max = _binary_fn("max", "Lane-wise maximum; a > b ? a : b for floats (NaN -> b).")
+MinNum = _binary_fn("minnum", "IEEE minNum: the non-NaN operand if one is NaN.")
+MaxNum = _binary_fn("maxnum", "IEEE maxNum: the non-NaN operand if one is NaN.")
+CopySign = _binary_fn("copysign", "|a| with the sign bit of b.")
+ShiftRightLogical = _binary_fn("lshr", "Logical (zero-filling) right shift, count mod 32.")
+ShiftRightArithmetic = _binary_fn("ashr", "Arithmetic (sign-filling) right shift, count mod 32.")
+Abs = _unary_fn("abs", "Absolute value (float: clears the sign bit; Int: INT_MIN stays INT_MIN).")
+Floor = _unary_fn("floor", "Round toward -inf.")
+Ceil = _unary_fn("ceil", "Round toward +inf.")
+Trunc = _unary_fn("trunc", "Round toward zero.")
+Round = _unary_fn("round", "Round to nearest, ties to even.")
+Sqrt = _unary_fn("sqrt", "Correctly rounded square root (NaN for negative inputs).")
+for _f, _n in [(Min, "Min"), (Max, "Max"), (MinNum, "MinNum"), (MaxNum, "MaxNum"),
+               (CopySign, "CopySign"), (ShiftRightLogical, "ShiftRightLogical"),
+               (ShiftRightArithmetic, "ShiftRightArithmetic"), (Abs, "Abs"), (Floor, "Floor"),
+               (Ceil, "Ceil"), (Trunc, "Trunc"), (Round, "Round"), (Sqrt, "Sqrt")]:
+    _f.__name__ = _f.__qualname__ = _n
+
+
+def _classify(name: str):
+    def fn(x):
+        vt = common_type(x, what=name)
+        if not vt.kind.is_float:
+            raise DSLTypeError(f"{name} is defined for Float and Double, not {vt.name}")
+        em = _em.current()
+        return value_class(vt.with_kind("Bool"))._wrap(ops.CLASSIFY[name.lower()](em, vt, x.ir), em)
+
+    fn.__name__ = fn.__qualname__ = name
+    fn.__doc__ = f"Lane-wise {name[2:].lower()} test, giving a mask."
+    return fn
+
+
+IsNan, IsInf, IsFinite = _classify("IsNan"), _classify("IsInf"), _classify("IsFinite")
+
+
+def Select(mask, a, b):
+    """Lane-wise ``mask ? a : b``; a scalar Bool mask selects whole vectors."""
+    if not isinstance(mask, Value) or mask.kind.category != "bool":
+        raise DSLTypeError(f"Select needs a Bool mask as first argument, not {mask!r}")
+    vt = common_type(a, b, what="Select")
+    if vt.width == 1 and mask.width > 1:
+        vt = vt.with_width(mask.width)
+    elif mask.width not in (1, vt.width):
+        raise WidthMismatchError(f"Select: mask {mask.vtype.name} does not match values {vt.name}")
+    em = _em.current()
+    return value_class(vt)._wrap(em.emit("select", mask.ir, to_ir(a, vt), to_ir(b, vt), name="select"), em)
+
+
+def _fused_args(a, b, c, what):
+    vt = common_type(a, b, c, what=what)
+    if not vt.kind.is_float:
+        raise DSLTypeError(f"{what} is defined for Float and Double, not {vt.name}")
+    return vt, to_ir(a, vt), to_ir(b, vt), to_ir(c, vt)
+
+
+def MulAdd(a, b, c):
+    """``a * b + c``: fused (one rounding) when the build's FMA option is on,
+    otherwise a rounded multiply followed by an add. This is the FMA toggle."""
+    vt, x, y, z = _fused_args(a, b, c, "MulAdd")
+    em = _em.current()
+    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.options.fma), em)
+
+
+def Fma(a, b, c):
+    """``a * b + c`` with a single rounding; an error in a build with fma=False
+    (use ``MulAdd`` for code that should follow the toggle)."""
+    vt, x, y, z = _fused_args(a, b, c, "Fma")
+    em = _em.current()
+    if not em.options.fma:
+        raise FmaDisabledError("Fma used in a build with fma=False; use MulAdd to follow the FMA toggle")
+    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, True), em)
+
+
+def As(type_, x):
+    """Reinterpret the bits of ``x`` as ``type_`` (same total size), e.g. ``As(Int4, f)``."""
+    if not (isinstance(type_, type) and issubclass(type_, Value) and hasattr(type_, "vtype")):
+        raise DSLTypeError(f"As needs a DSL type as first argument, not {type_!r}")
+    if not isinstance(x, Value):
+        raise DSLTypeError(f"As needs a DSL value as second argument, not {x!r}")
+    src, dst = x.vtype, type_.vtype
+    if "bool" in (src.kind.category, dst.kind.category):
+        raise DSLTypeError("As cannot reinterpret masks; use Select or Int(mask)")
+    if src.kind.bits * src.width != dst.kind.bits * dst.width:
+        raise DSLTypeError(f"As({dst.name}, {src.name}): sizes differ "
+                           f"({dst.kind.bits * dst.width} vs {src.kind.bits * src.width} bits)")
+    em = _em.current()
+    val = x.ir
+    if src.ir != dst.ir:
+        val = em.emit("bitcast", val, dst.ir, name="as")
+    return type_._wrap(val, em)
+
+
+def ToInt(x, rounding: str = "trunc", *, saturate: bool = True, unsigned: bool = False):
+    """Convert floats to Int (or UInt): ``rounding`` "trunc" or "nearest" (ties to even).
+
+    With ``saturate`` (default) out-of-range inputs clamp and NaN gives 0. With
+    ``saturate=False`` the caller promises inputs are in range; others give an
+    unspecified but fixed value (no undefined behaviour), saving the clamps.
+    """
+    if not isinstance(x, Value) or not x.kind.is_float:
+        raise DSLTypeError(f"ToInt converts Float/Double values, not {x!r}")
+    dst = x.vtype.with_kind("UInt" if unsigned else "Int")
+    em = _em.current()
+    return value_class(dst)._wrap(ops.convert(em, x.vtype, dst, x.ir, rounding=rounding, saturate=saturate), em)
+
+
+def _lane_index(v: Value, i):
+    if isinstance(i, Value):
+        if not i.kind.is_integer or i.width != 1:
+            raise DSLTypeError(f"lane index must be a scalar Int, not {i.vtype.name}")
+        return i.ir
+    if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < v.width:
+        raise DSLTypeError(f"lane index {i!r} out of range for {v.vtype.name}")
+    return ir.Constant(ir.IntType(32), i)
+
+
+def Extract(v: Value, i):
+    """Lane ``i`` of vector ``v`` as a scalar (``i`` an int or a scalar Int)."""
+    if not isinstance(v, Value) or v.width == 1:
+        raise DSLTypeError(f"Extract needs a vector value, not {v!r}")
+    em = _em.current()
+    return value_class(v.vtype.with_width(1))._wrap(em.emit("extract_element", v.ir, _lane_index(v, i), name="lane"), em)
+
+
+def Insert(v: Value, x, i):
+    """A copy of vector ``v`` with lane ``i`` replaced by scalar ``x``."""
+    if not isinstance(v, Value) or v.width == 1:
+        raise DSLTypeError(f"Insert needs a vector value, not {v!r}")
+    scalar = to_ir(x, v.vtype.with_width(1))
+    em = _em.current()
+    return value_class(v.vtype)._wrap(em.emit("insert_element", v.ir, scalar, _lane_index(v, i), name="insert"), em)
+
+
+def _reduce(name: str, llvm_name: str):
+    def fn(mask):
+        if not isinstance(mask, Value) or mask.kind.category != "bool":
+            raise DSLTypeError(f"{name} needs a Bool mask, not {mask!r}")
+        if mask.width == 1:
+            return mask
+        em = _em.current()
+        result = ops.intrinsic(em, llvm_name, mask.vtype, [mask.ir], ret=VType(mask.kind, 1))
+        return value_class(VType(mask.kind, 1))._wrap(result, em)
+
+    fn.__name__ = fn.__qualname__ = name
+    fn.__doc__ = f"Scalar Bool: {'some' if name == 'Any' else 'every'} lane of the mask is set."
+    return fn
+
+
+Any = _reduce("Any", "llvm.vector.reduce.or")
+All = _reduce("All", "llvm.vector.reduce.and")
+
+
+def LaneIndex(width: int | None = None):
+    """``Int<width>(0, 1, ..., width-1)``; the build's SIMD width by default."""
+    em = _em.current()
+    vt = VType(KINDS["Int"], width or em.width)
+    lanes = [ir.Constant(ir.IntType(32), i) for i in range(vt.width)]
+    return value_class(vt)._wrap(lanes[0] if vt.width == 1 else ir.Constant(vt.ir, lanes), em)
+
+
+def _estimate(name: str, x):
+    """Hardware reciprocal / rsqrt estimate (x86 RCP14/RSQRT14 with AVX-512,
+    RCPPS/RSQRTPS otherwise: relative error <= 2^-14 resp. 1.5*2^-12)."""
+    if not isinstance(x, Value) or x.kind.name != "Float":
+        raise DSLTypeError(f"{name} estimates Float values, not {x!r}")
+    em = _em.current()
+    from ..jit.target import get_target
+    feats = get_target(em.options.target).feature_set
+    return value_class(x.vtype)._wrap(ops.estimate(em, name, x.vtype, x.ir, feats), em)
+
+
+def RcpApprox(x):
+    """Hardware estimate of 1/x (about 14 bits with AVX-512, 12 bits otherwise)."""
+    return _estimate("rcp", x)
+
+
+def RsqrtApprox(x):
+    """Hardware estimate of 1/sqrt(x) (about 14 bits with AVX-512, 12 bits otherwise)."""
+    return _estimate("rsqrt", x)

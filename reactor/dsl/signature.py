@@ -1,0 +1,125 @@
+"""Signatures: argument and return types of DSL functions and kernels.
+
+Types are written as annotations (``def f(x: Float, p: Pointer[Float, "n"], n: Int) -> Float``)
+or given explicitly. ``SIMD.Float`` (and ``SIMD.Int`` ...) is width-generic: it
+becomes ``Float16``/``Float8``/``Float4`` according to the build's width.
+"""
+from __future__ import annotations
+
+import dataclasses
+import inspect
+
+from ..errors import DSLTypeError
+from ..ir import emitter as _em
+from .types import KINDS, PointerType, VType
+from .values import Value, value_class
+
+
+class GenericType:
+    """A kind whose width is the build's SIMD width (``SIMD.Float``)."""
+
+    def __init__(self, kind: str):
+        self.kind = KINDS[kind]
+
+    def at(self, width: int) -> type[Value]:
+        return value_class(VType(self.kind, width))
+
+    def __call__(self, *args):
+        """Construct a value at the width of the function being built."""
+        return self.at(_em.current().width)(*args)
+
+    def __repr__(self):
+        return f"SIMD.{self.kind.name}"
+
+
+class _SIMD:
+    """Width-generic types, like SwiftShader's ``SIMD::Float`` with a build-time width."""
+
+    Float = GenericType("Float")
+    Double = GenericType("Double")
+    Int = GenericType("Int")
+    UInt = GenericType("UInt")
+    Bool = GenericType("Bool")
+
+    @property
+    def width(self) -> int:
+        """The SIMD width of the function being built."""
+        return _em.current().width
+
+
+SIMD = _SIMD()
+
+
+class Pointer:
+    """``Pointer[Float]``, ``Pointer[Float4]``, ``Pointer[Float, 64]`` or
+    ``Pointer[Float, "n"]`` (at least ``n`` elements, ``n`` an Int argument)."""
+
+    def __class_getitem__(cls, item):
+        pointee, length = (item if isinstance(item, tuple) else (item, None))
+        return _PointerSpec(pointee, length)
+
+
+@dataclasses.dataclass(frozen=True)
+class _PointerSpec:
+    pointee: object
+    length: int | str | None
+
+
+def resolve(spec, width: int, what: str):
+    """A concrete VType or PointerType for an annotation at a build width."""
+    if isinstance(spec, GenericType):
+        return spec.at(width).vtype
+    if isinstance(spec, type) and issubclass(spec, Value) and hasattr(spec, "vtype"):
+        return spec.vtype
+    if isinstance(spec, _PointerSpec):
+        pointee = resolve(spec.pointee, width, what)
+        if not isinstance(pointee, VType):
+            raise DSLTypeError(f"{what}: a pointer must point to a value type, not {spec.pointee!r}")
+        return PointerType(pointee, spec.length)
+    if isinstance(spec, (VType, PointerType)):
+        return spec
+    raise DSLTypeError(f"{what}: {spec!r} is not a DSL type (use Float, Int4, SIMD.Float, Pointer[Float] ...)")
+
+
+@dataclasses.dataclass(frozen=True)
+class Signature:
+    """Parameter names, parameter type specs and the return type spec (None: void)."""
+
+    names: tuple[str, ...]
+    params: tuple[object, ...]
+    returns: object
+
+    @classmethod
+    def from_function(cls, body, args=None, returns=inspect.Parameter.empty) -> "Signature":
+        sig = inspect.signature(body)
+        names = tuple(sig.parameters)
+        hints = inspect.get_annotations(body, eval_str=True)
+        if args is None:
+            missing = [n for n in names if n not in hints]
+            if missing:
+                raise DSLTypeError(f"'{body.__name__}': parameter(s) {', '.join(missing)} need a type "
+                                   f"annotation (e.g. x: Float) or an explicit args=[...] list")
+            args = [hints[n] for n in names]
+        elif len(args) != len(names):
+            raise DSLTypeError(f"'{body.__name__}' has {len(names)} parameter(s) but {len(args)} "
+                               f"argument type(s) were given")
+        if returns is inspect.Parameter.empty:
+            returns = hints.get("return")
+        return cls(names, tuple(args), returns)
+
+    def resolved(self, width: int, where: str):
+        params = tuple(resolve(p, width, f"{where} parameter '{n}'") for n, p in zip(self.names, self.params))
+        if self.returns is None:
+            returns = None
+        elif isinstance(self.returns, tuple):
+            returns = tuple(resolve(r, width, f"{where} result") for r in self.returns)
+        else:
+            returns = resolve(self.returns, width, f"{where} result")
+        for name, p in zip(self.names, params):
+            if isinstance(p, PointerType) and isinstance(p.length, str):
+                idx = self.names.index(p.length) if p.length in self.names else -1
+                if idx < 0 or not isinstance(params[idx], VType) or not params[idx].kind.is_integer \
+                        or params[idx].width != 1:
+                    raise DSLTypeError(f"{where}: pointer '{name}' has length '{p.length}', which must "
+                                       f"name a scalar Int/UInt parameter")
+        return params, returns

@@ -1,0 +1,247 @@
+"""DSL values: one Python class per value type (``Float``, ``Float4``, ``Int16``, ``Bool8`` ...).
+
+A value wraps an SSA value of the function being built. Python numbers
+broadcast as constants; a scalar value broadcasts against a vector; vectors of
+different widths, or of different kinds (Float + Int), are errors. Operators
+come from the table in ``reactor.ir.ops`` and are attached to the base class
+once, for every kind and width.
+
+Constructors convert: ``Float4(1.5)`` is a constant, ``Float4(1, 2, 3, 4)``
+one per lane, ``Float4(x)`` broadcasts a scalar ``Float`` or converts an
+``Int4`` (``Int(x)`` truncates toward zero and saturates; NaN gives 0; a Bool
+converts to 0/1).
+"""
+from __future__ import annotations
+
+import functools
+import numbers
+
+from llvmlite import ir
+
+from ..errors import DSLTypeError, ScopeError, WidthMismatchError
+from ..ir import emitter as _em
+from ..ir import ops
+from .types import KINDS, WIDTHS, Kind, VType
+
+
+class Value:
+    """Base class of every DSL value type; see the module docstring."""
+
+    vtype: VType  # set on each concrete subclass
+    __slots__ = ("_ir", "_emitter", "_scope")
+
+    # -- construction ---------------------------------------------------
+    def __new__(cls, *args):
+        if not hasattr(cls, "vtype"):
+            raise DSLTypeError("Value is abstract; use a concrete type such as Float or Int4")
+        em = _em.current()
+        vt = cls.vtype
+        if len(args) == 1:
+            return cls._wrap(to_ir(args[0], vt, convert=True), em)
+        if len(args) == vt.width and vt.width > 1:
+            vec = ir.Constant(vt.ir, ir.Undefined)
+            for lane, arg in enumerate(args):
+                scalar = to_ir(arg, vt.with_width(1), convert=True)
+                vec = em.emit("insert_element", vec, scalar, ir.Constant(ir.IntType(32), lane), name="lanes")
+            return cls._wrap(vec, em)
+        raise DSLTypeError(
+            f"{vt.name}(...) takes one value (broadcast or converted) or {vt.width} lane values, "
+            f"not {len(args)}"
+        )
+
+    @classmethod
+    def _wrap(cls, value: ir.Value, em=None):
+        """Wrap an IR value produced in the current scope."""
+        self = object.__new__(cls)
+        em = em or _em.current()
+        self._ir, self._emitter, self._scope = value, em, em.scope
+        return self
+
+    # -- access ---------------------------------------------------------
+    @property
+    def ir(self) -> ir.Value:
+        """The IR value, after checking it is visible where it is used."""
+        em = _em.current()
+        if self._emitter is not em:
+            raise ScopeError(
+                f"a {self.vtype.name} value from function '{self._emitter.function.name}' "
+                f"used while building '{em.function.name}'; pass it as an argument instead"
+            )
+        if self._scope.closed:
+            raise ScopeError(
+                f"a {self.vtype.name} value defined inside a '{self._scope.what}' block is used "
+                f"after that block ended; declare a Variable before the block and assign it inside"
+            )
+        return self._ir
+
+    @property
+    def width(self) -> int:
+        return self.vtype.width
+
+    @property
+    def kind(self) -> Kind:
+        return self.vtype.kind
+
+    def named(self, name: str) -> "Value":
+        """Give the IR value a readable name (shown in IR dumps); returns self."""
+        if hasattr(self._ir, "name") and not isinstance(self._ir, ir.Constant):
+            self._ir.name = name
+        return self
+
+    def __repr__(self) -> str:
+        return f"<{self.vtype.name} value>"
+
+    def __bool__(self):
+        raise DSLTypeError(
+            f"a {self.vtype.name} value has no Python truth value at build time: use "
+            f"If(...)/While(...) for run-time branches, Select(...) for lane-wise choice"
+        )
+
+    def __index__(self):
+        raise DSLTypeError(f"a {self.vtype.name} value cannot be used as a Python index or count")
+
+    __hash__ = object.__hash__
+
+
+@functools.cache
+def value_class(vtype: VType) -> type[Value]:
+    """The Python class for ``vtype`` (e.g. ``VType(Float, 4)`` -> ``Float4``)."""
+    return type(vtype.name, (Value,), {"vtype": vtype, "__slots__": (), "__module__": "reactor"})
+
+
+def vector_type(kind: "str | type[Value]", width: int) -> type[Value]:
+    """``vector_type(Float, 8)`` -> ``Float8``; width 1 gives the scalar type."""
+    kind_obj = KINDS[kind] if isinstance(kind, str) else kind.vtype.kind
+    if width not in WIDTHS:
+        raise DSLTypeError(f"vector width must be one of {WIDTHS}, not {width!r}")
+    return value_class(VType(kind_obj, width))
+
+
+# -- coercion ----------------------------------------------------------------
+
+def _python_constant(x, vt: VType) -> ir.Constant:
+    kind = vt.kind
+    if isinstance(x, bool) or (hasattr(x, "dtype") and getattr(x, "dtype", None) == bool):
+        if kind.category != "bool":
+            raise DSLTypeError(f"Python bool {x!r} used where a {vt.name} is expected")
+        return ops.const(vt, int(bool(x)))
+    if kind.category == "bool":
+        raise DSLTypeError(f"number {x!r} used where a {vt.name} (mask) is expected; use True/False")
+    if kind.is_float:
+        if not isinstance(x, numbers.Real):
+            raise DSLTypeError(f"{type(x).__name__} {x!r} cannot be a {vt.name} constant")
+        return ops.const(vt, float(x))
+    if isinstance(x, numbers.Integral):
+        x = int(x)
+        if not -(2**31) <= x < 2**32:
+            raise DSLTypeError(f"integer constant {x} does not fit in 32 bits ({vt.name})")
+        return ops.const(vt, x - 2**32 if x >= 2**31 else x)
+    raise DSLTypeError(f"{type(x).__name__} {x!r} used where an integer {vt.name} is expected")
+
+
+def to_ir(x, vt: VType, *, convert: bool = False) -> ir.Value:
+    """IR for ``x`` as type ``vt``: constants broadcast, scalars splat.
+
+    With ``convert`` (constructors) a value of another kind is converted
+    numerically; otherwise a kind mismatch is an error.
+    """
+    if not isinstance(x, Value):
+        return _python_constant(x, vt)
+    xt = x.vtype
+    val = x.ir
+    if xt.kind != vt.kind:
+        if not convert:
+            raise DSLTypeError(f"expected {vt.name}, got {xt.name}")
+        val = ops.convert(_em.current(), xt, xt.with_kind(vt.kind), val)
+        xt = xt.with_kind(vt.kind)
+    if xt.width == vt.width:
+        return val
+    if xt.width == 1:
+        return ops.splat(_em.current(), vt.width, val)
+    raise WidthMismatchError(f"a {xt.name} cannot become a {vt.name}: widths {xt.width} and {vt.width}")
+
+
+def common_type(*args, what: str) -> VType:
+    """The value type of an operation on ``args`` (at least one must be a Value)."""
+    vts = [a.vtype for a in args if isinstance(a, Value)]
+    if not vts:
+        raise DSLTypeError(f"{what} needs at least one DSL value (all operands are Python constants)")
+    kinds = {vt.kind for vt in vts}
+    if len(kinds) > 1:
+        names = " and ".join(vt.name for vt in vts)
+        raise DSLTypeError(f"{what}: operands of different types ({names}); convert one explicitly, "
+                           f"e.g. Float(i) or Int(x)")
+    widths = {vt.width for vt in vts} - {1}
+    if len(widths) > 1:
+        names = " and ".join(vt.name for vt in vts)
+        raise WidthMismatchError(f"{what}: vector widths differ ({names})")
+    return VType(vts[0].kind, widths.pop() if widths else 1)
+
+
+def _lookup(table: dict, name: str, vt: VType, what: str):
+    recipes = table[name]
+    recipe = recipes.get(vt.kind.category)
+    if recipe is None:
+        kinds = sorted({k.name for k in KINDS.values() if k.category in recipes})
+        raise DSLTypeError(f"{what} is not defined for {vt.name} (only for {', '.join(kinds)})")
+    return recipe
+
+
+def apply(recipe, em, vt, *irs, name=""):
+    if isinstance(recipe, str):
+        return em.emit(recipe, *irs, name=name or recipe.rstrip("_"))
+    return recipe(em, vt, *irs)
+
+
+def binary(name: str, a, b, what: str | None = None) -> Value:
+    """Apply the binary operation ``name`` of ``ops.BINARY``."""
+    what = what or name
+    vt = common_type(a, b, what=what)
+    recipe = _lookup(ops.BINARY, name, vt, what)
+    em = _em.current()
+    return value_class(vt)._wrap(apply(recipe, em, vt, to_ir(a, vt), to_ir(b, vt), name=name), em)
+
+
+def unary(name: str, a, what: str | None = None) -> Value:
+    what = what or name
+    vt = common_type(a, what=what)
+    recipe = _lookup(ops.UNARY, name, vt, what)
+    em = _em.current()
+    return value_class(vt)._wrap(apply(recipe, em, vt, to_ir(a, vt), name=name), em)
+
+
+def comparison(name: str, a, b) -> Value:
+    vt = common_type(a, b, what=f"comparison '{ops.COMPARE[name]}'")
+    if vt.kind.category == "bool" and name not in ("eq", "ne"):
+        raise DSLTypeError(f"ordering comparison '{ops.COMPARE[name]}' of masks ({vt.name})")
+    em = _em.current()
+    result = ops.compare(em, vt, name, to_ir(a, vt), to_ir(b, vt))
+    return value_class(vt.with_kind("Bool"))._wrap(result, em)
+
+
+# -- operators, attached once for every type ----------------------------------
+
+_BINARY_DUNDERS = {
+    "add": ("__add__", "__radd__", "+"), "sub": ("__sub__", "__rsub__", "-"),
+    "mul": ("__mul__", "__rmul__", "*"), "div": ("__truediv__", "__rtruediv__", "/"),
+    "rem": ("__mod__", "__rmod__", "%"), "and": ("__and__", "__rand__", "&"),
+    "or": ("__or__", "__ror__", "|"), "xor": ("__xor__", "__rxor__", "^"),
+    "shl": ("__lshift__", "__rlshift__", "<<"), "shr": ("__rshift__", "__rrshift__", ">>"),
+}
+
+
+def _install_operators() -> None:
+    for name, (fwd, rev, sym) in _BINARY_DUNDERS.items():
+        what = f"operator '{sym}'"
+        setattr(Value, fwd, lambda a, b, _n=name, _w=what: binary(_n, a, b, _w))
+        setattr(Value, rev, lambda a, b, _n=name, _w=what: binary(_n, b, a, _w))
+    for name, dunder in {"lt": "__lt__", "le": "__le__", "gt": "__gt__", "ge": "__ge__",
+                         "eq": "__eq__", "ne": "__ne__"}.items():
+        setattr(Value, dunder, lambda a, b, _n=name: comparison(_n, a, b))
+    Value.__neg__ = lambda a: unary("neg", a, "negation")
+    Value.__pos__ = lambda a: a
+    Value.__invert__ = lambda a: unary("invert", a, "operator '~'")
+    Value.__abs__ = lambda a: unary("abs", a, "abs")
+
+
+_install_operators()

@@ -1,0 +1,170 @@
+"""Mutable variables and pointers.
+
+A ``Variable`` is a stack slot in the function's entry block (so LLVM's mem2reg
+turns it back into SSA values, as in Reactor). It behaves as a value of its
+type wherever it is read, and keeps its value across branches and loops::
+
+    acc = Variable(Float4, 0.0)
+    with For(0, n) as i:
+        acc += p.load(i * 4, 4)       # in-place operators store back
+    acc.set(acc * 0.5)                # plain assignment
+
+A ``Pointer`` argument indexes memory in elements of its pointee type.
+"""
+from __future__ import annotations
+
+import functools
+
+from llvmlite import ir
+
+from ..errors import DSLTypeError, ScopeError
+from ..ir import emitter as _em
+from .types import PointerType, VType
+from .values import Value, binary, to_ir, value_class
+
+
+class _VariableMixin:
+    """Methods shared by every Variable[T] class (T a value type)."""
+
+    __slots__ = ()
+
+    @property
+    def ir(self) -> ir.Value:
+        slot = Value.ir.fget(self)  # checks function and scope
+        return _em.current().emit("load", slot, name=self._name)
+
+    @property
+    def value(self) -> Value:
+        """An immutable snapshot of the current value."""
+        return value_class(self.vtype)._wrap(self.ir)
+
+    def set(self, value) -> "Variable":
+        """Store ``value`` (converted only if it is a Python constant or a broadcast scalar)."""
+        slot = Value.ir.fget(self)
+        _em.current().emit("store", to_ir(value, self.vtype), slot)
+        return self
+
+    def named(self, name):
+        return self
+
+
+def _inplace(op):
+    def method(self, other):
+        return self.set(binary(op, self, other))
+
+    return method
+
+
+for _op, _dunder in {"add": "__iadd__", "sub": "__isub__", "mul": "__imul__",
+                     "div": "__itruediv__", "rem": "__imod__", "and": "__iand__",
+                     "or": "__ior__", "xor": "__ixor__", "shl": "__ilshift__",
+                     "shr": "__irshift__"}.items():
+    setattr(_VariableMixin, _dunder, _inplace(_op))
+
+
+@functools.cache
+def _variable_class(vtype: VType):
+    return type(f"Variable[{vtype.name}]", (_VariableMixin, value_class(vtype)),
+                {"__slots__": ("_name",), "__module__": "reactor"})
+
+
+def Variable(type_or_value, init=None, name: str = "var"):
+    """A mutable variable: ``Variable(Float4, 0.0)``, ``Variable(Float4)`` (zero)
+    or ``Variable(x)`` (type and initial value from the value ``x``)."""
+    if isinstance(type_or_value, Value):
+        if init is not None:
+            raise DSLTypeError("Variable(value) takes its initial value from the value; "
+                               "use Variable(Type, init) to give both")
+        vtype, init = type_or_value.vtype, type_or_value
+    elif isinstance(type_or_value, type) and issubclass(type_or_value, Value) and hasattr(type_or_value, "vtype"):
+        vtype = type_or_value.vtype
+    else:
+        raise DSLTypeError(f"Variable needs a DSL type or value, not {type_or_value!r}")
+    em = _em.current()
+    init_ir = to_ir(0 if init is None and not vtype.kind.category == "bool" else (False if init is None else init), vtype)
+    slot = em.alloca(vtype.ir, name=name)
+    em.emit("store", init_ir, slot)
+    var = _variable_class(vtype)._wrap(slot, em)
+    var._name = name
+    return var
+
+
+class PointerValue:
+    """A pointer argument: ``p[i]`` loads, ``p[i] = v`` stores, in pointee elements.
+
+    ``p.load(i, width)`` / ``p.store(i, vec)`` move ``width`` consecutive scalars
+    starting at element ``i`` of a scalar pointer as one vector (unaligned).
+    """
+
+    __slots__ = ("ptype", "_ir", "_emitter")
+
+    def __init__(self, ptype: PointerType, value: ir.Value, em):
+        self.ptype, self._ir, self._emitter = ptype, value, em
+
+    def _ptr(self):
+        em = _em.current()
+        if self._emitter is not em:
+            raise ScopeError(f"a {self.ptype.name} from function '{self._emitter.function.name}' "
+                             f"used while building '{em.function.name}'")
+        return em, self._ir
+
+    def _address(self, index, elem_ir):
+        em, base = self._ptr()
+        if isinstance(index, Value):
+            if not index.kind.is_integer or index.width != 1:
+                raise DSLTypeError(f"pointer index must be a scalar Int or UInt, not {index.vtype.name}")
+            ext = "sext" if index.kind.signed else "zext"
+            idx = em.emit(ext, index.ir, ir.IntType(64), name="idx")
+        elif isinstance(index, int) and not isinstance(index, bool):
+            idx = ir.Constant(ir.IntType(64), index)
+        else:
+            raise DSLTypeError(f"pointer index must be an int or an Int value, not {index!r}")
+        addr = em.emit("bitcast", base, elem_ir.as_pointer(), name="p") if base.type.pointee != elem_ir else base
+        return em, em.emit("gep", addr, [idx], inbounds=True, name="addr")
+
+    def _load(self, index, vt: VType):
+        em, addr = self._address(index, vt.kind.mem_type)
+        if vt.width > 1:
+            addr = em.emit("bitcast", addr, vt.mem_ir.as_pointer(), name="vaddr")
+        raw = em.emit("load", addr, name="load", align=vt.kind.mem_bytes)
+        if vt.kind.category == "bool":
+            raw = em.emit("icmp_unsigned", "!=", raw, ir.Constant(vt.mem_ir, 0 if vt.width == 1 else [0] * vt.width), name="bool")
+        return value_class(vt)._wrap(raw, em)
+
+    def _store(self, index, value, vt: VType):
+        val = to_ir(value, vt)
+        em, addr = self._address(index, vt.kind.mem_type)
+        if vt.width > 1:
+            addr = em.emit("bitcast", addr, vt.mem_ir.as_pointer(), name="vaddr")
+        if vt.kind.category == "bool":
+            val = em.emit("zext", val, vt.mem_ir, name="byte")
+        em.emit("store", val, addr, align=vt.kind.mem_bytes)
+
+    def _scaled(self, index):
+        w = self.ptype.pointee.width
+        return index if w == 1 else index * w
+
+    def __getitem__(self, index):
+        return self._load(self._scaled(index), self.ptype.pointee)
+
+    def __setitem__(self, index, value):
+        self._store(self._scaled(index), value, self.ptype.pointee)
+
+    def load(self, index, width: int):
+        """Load ``width`` consecutive scalars from scalar element ``index``."""
+        self._require_scalar("load")
+        return self._load(index, self.ptype.pointee.with_width(width))
+
+    def store(self, index, value: Value):
+        """Store the vector ``value`` to consecutive scalars from element ``index``."""
+        self._require_scalar("store")
+        if not isinstance(value, Value):
+            raise DSLTypeError("Pointer.store needs a DSL vector value")
+        self._store(index, value, self.ptype.pointee.with_width(value.width))
+
+    def _require_scalar(self, what):
+        if self.ptype.pointee.width != 1:
+            raise DSLTypeError(f"{what}(i, width) is for pointers to scalars; {self.ptype.name} indexes whole vectors")
+
+    def __repr__(self):
+        return f"<{self.ptype.name}>"

@@ -1,0 +1,74 @@
+"""Exceptions raised while building, compiling or calling reactor code.
+
+Every error raised because of something the user wrote carries the user's
+``file:line`` (the innermost stack frame outside the ``reactor`` and
+``routines`` packages), so the message points at the offending DSL line rather
+than at library internals.
+"""
+from __future__ import annotations
+
+import os
+import sys
+
+_LIBRARY_DIRS = tuple(
+    os.path.dirname(os.path.abspath(p)) + os.sep
+    for p in (__file__, os.path.join(os.path.dirname(__file__), "..", "routines", "x"))
+)
+
+
+def user_location() -> tuple[str, int] | None:
+    """Return ``(filename, lineno)`` of the innermost frame outside the library."""
+    frame = sys._getframe(1)
+    while frame is not None:
+        filename = os.path.abspath(frame.f_code.co_filename)
+        if not filename.startswith(_LIBRARY_DIRS) and "importlib" not in filename:
+            return frame.f_code.co_filename, frame.f_lineno
+        frame = frame.f_back
+    return None
+
+
+class ReactorError(Exception):
+    """Base class: a mistake in reactor code, reported at the user's line."""
+
+    def __init__(self, message: str, location: tuple[str, int] | None = None):
+        self.location = location if location is not None else user_location()
+        self.problem = message
+        if self.location:
+            message = f"{message} (at {self.location[0]}:{self.location[1]})"
+        super().__init__(message)
+
+
+class DSLTypeError(ReactorError, TypeError):
+    """Operands of incompatible types, e.g. a Float added to an Int."""
+
+
+class WidthMismatchError(DSLTypeError):
+    """Vector operands of different widths (1 broadcasts; 4 and 8 do not)."""
+
+
+class ScopeError(ReactorError):
+    """A value used outside the function or block that defined it."""
+
+
+class ControlFlowError(ReactorError):
+    """Misplaced Elif/Else/Return, blocks closed out of order, unclosed blocks."""
+
+
+class MissingReturnError(ControlFlowError):
+    """A function with a return type can reach its end without ``Return``."""
+
+
+class ArityError(ReactorError, TypeError):
+    """A function, routine or intrinsic called with the wrong number of arguments."""
+
+
+class ArgumentError(ReactorError, TypeError):
+    """A routine called with an argument of the wrong dtype, size or kind."""
+
+
+class FmaDisabledError(ReactorError):
+    """``Fma`` requested in a build whose FMA option is off."""
+
+
+class CompileError(ReactorError):
+    """LLVM rejected the generated module (a reactor bug; please report it)."""

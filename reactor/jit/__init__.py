@@ -1,0 +1,1 @@
+"""JIT layer: targets, LLVM optimization and code generation, object caches."""

@@ -1,0 +1,71 @@
+"""Object-code caches: a bounded in-memory LRU and an on-disk directory.
+
+The disk cache lives in ``$REACTOR_CACHE_DIR`` (default
+``~/.cache/reactor``); ``REACTOR_CACHE=0`` disables it. Entries are object
+files named by a SHA-256 over the IR text, target CPU and features, options
+and llvmlite version, written atomically, so concurrent processes can share
+the directory and a stale entry can never be picked up.
+"""
+from __future__ import annotations
+
+import collections
+import os
+import tempfile
+import threading
+
+MEMORY_ENTRIES = 512
+_memory: "collections.OrderedDict[str, bytes]" = collections.OrderedDict()
+_memory_lock = threading.Lock()
+
+
+def memory_get(key: str) -> bytes | None:
+    with _memory_lock:
+        obj = _memory.get(key)
+        if obj is not None:
+            _memory.move_to_end(key)
+        return obj
+
+
+def memory_put(key: str, obj: bytes) -> None:
+    with _memory_lock:
+        _memory[key] = obj
+        _memory.move_to_end(key)
+        while len(_memory) > MEMORY_ENTRIES:
+            _memory.popitem(last=False)
+
+
+def memory_clear() -> None:
+    with _memory_lock:
+        _memory.clear()
+
+
+def directory() -> str | None:
+    """The disk cache directory, or None when disabled."""
+    if os.environ.get("REACTOR_CACHE", "1") == "0":
+        return None
+    return os.environ.get("REACTOR_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "reactor")
+
+
+def disk_get(key: str) -> bytes | None:
+    root = directory()
+    if root is None:
+        return None
+    try:
+        with open(os.path.join(root, key + ".o"), "rb") as f:
+            return f.read()
+    except OSError:
+        return None
+
+
+def disk_put(key: str, obj: bytes) -> None:
+    root = directory()
+    if root is None:
+        return
+    try:
+        os.makedirs(root, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=root, suffix=".tmp")
+        with os.fdopen(fd, "wb") as f:
+            f.write(obj)
+        os.replace(tmp, os.path.join(root, key + ".o"))
+    except OSError:
+        pass  # a read-only or full disk only costs a recompile next time

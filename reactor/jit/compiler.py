@@ -1,0 +1,122 @@
+"""LLVM: verify, optimize, emit machine code, and load it into the process.
+
+``compile_ir(ir_text, target, opt, exports)`` returns a ``CompiledCode`` whose
+``address(name)`` gives callable addresses. Object code is cached by a key
+over the IR text, the target (CPU name and features) and the options: first in
+memory, then on disk (``cache.py``), so a new process that builds the same IR
+skips LLVM entirely. Compilation is serialized by one lock; building IR is not
+(each thread builds its own functions).
+
+Machine code is freed when its ``CompiledCode`` is garbage-collected.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import itertools
+import threading
+
+import llvmlite
+import llvmlite.binding as llvm
+
+from ..errors import CompileError, ReactorError
+from . import cache
+from .target import Target
+
+_lock = threading.RLock()
+_library_ids = itertools.count()
+CACHE_VERSION = "1"
+
+
+@functools.cache
+def _lljit():
+    return llvm.create_lljit_compiler()
+
+
+def cache_key(ir_text: str, target: Target, opt: int) -> str:
+    h = hashlib.sha256()
+    for part in (CACHE_VERSION, llvmlite.__version__, target.key(), str(opt), ir_text):
+        h.update(part.encode())
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+def _parse(ir_text: str) -> llvm.ModuleRef:
+    try:
+        mod = llvm.parse_assembly(ir_text)
+        mod.verify()
+    except RuntimeError as exc:
+        raise CompileError(f"LLVM rejected the generated IR: {exc}") from None
+    return mod
+
+
+def _optimize(mod: llvm.ModuleRef, target: Target, opt: int) -> None:
+    pto = llvm.create_pipeline_tuning_options(speed_level=opt)
+    pto.loop_vectorization = False  # DSL code is explicitly vectorized
+    pto.slp_vectorization = False
+    pb = llvm.create_pass_builder(target.machine, pto)
+    pb.getModulePassManager().run(mod, pb)
+
+
+def optimized_module(ir_text: str, target: Target, opt: int) -> llvm.ModuleRef:
+    """Parse, verify and optimize; the result's ``str()`` is the optimized IR."""
+    with _lock:
+        mod = _parse(ir_text)
+        _optimize(mod, target, opt)
+        return mod
+
+
+class CompiledCode:
+    """Machine code for one module, loaded into the process."""
+
+    def __init__(self, ir_text: str, target: Target, opt: int, exports: tuple[str, ...],
+                 use_disk_cache: bool = True):
+        self.ir_text, self.target, self.opt = ir_text, target, opt
+        self.key = cache_key(ir_text, target, opt)
+        self.source = "memory cache"
+        obj = cache.memory_get(self.key)
+        if obj is None and use_disk_cache:
+            obj = cache.disk_get(self.key)
+            self.source = "disk cache"
+        if obj is None:
+            self.source = "compiled"
+            with _lock:
+                mod = _parse(ir_text)
+                _optimize(mod, target, opt)
+                obj = target.machine.emit_object(mod)
+            if use_disk_cache:
+                cache.disk_put(self.key, obj)
+        cache.memory_put(self.key, obj)
+        self.object = obj
+        self._addresses: dict[str, int] = {}
+        self._tracker = None
+        if target.runnable:
+            with _lock:
+                builder = llvm.JITLibraryBuilder().add_object_img(obj).add_current_process()
+                for name in exports:
+                    builder.export_symbol(name)
+                self._tracker = builder.link(_lljit(), f"reactor{next(_library_ids)}")
+            self._addresses = {name: self._tracker[name] for name in exports}
+
+    def address(self, name: str) -> int:
+        if not self.target.runnable:
+            raise ReactorError(f"code built for target '{self.target.name}' cannot run on this CPU "
+                               f"(it lacks {', '.join(sorted(set(self.target.required) - set(_host())))}); "
+                               f"inspect its assembly instead")
+        return self._addresses[name]
+
+    @functools.cached_property
+    def optimized_ir(self) -> str:
+        return str(optimized_module(self.ir_text, self.target, self.opt))
+
+    @functools.cached_property
+    def assembly(self) -> str:
+        with _lock:
+            mod = _parse(self.ir_text)
+            _optimize(mod, self.target, self.opt)
+            return self.target.machine.emit_assembly(mod)
+
+
+def _host():
+    from .target import _host_features
+    return _host_features()

@@ -1,0 +1,97 @@
+"""Code-generation targets: the host CPU, or a forced older x86 level.
+
+A target fixes the LLVM triple, CPU name and feature string, and from them the
+natural SIMD width (16 lanes of float32 with AVX-512, 8 with AVX2, else 4) and
+whether FMA exists. A forced target whose features the host lacks can still be
+compiled (to read its assembly) but its code refuses to run.
+"""
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import llvmlite.binding as llvm
+
+from ..errors import ReactorError
+
+
+@functools.cache
+def _llvm_ready() -> None:
+    llvm.initialize_native_target()
+    llvm.initialize_native_asmprinter()
+    llvm.initialize_native_asmparser()
+
+
+@dataclasses.dataclass(frozen=True)
+class Target:
+    """An LLVM code-generation target."""
+
+    name: str
+    triple: str
+    cpu: str
+    features: str
+    required: tuple[str, ...]
+
+    @functools.cached_property
+    def feature_set(self) -> frozenset[str]:
+        if self.name == "host":
+            return _host_features()
+        return frozenset(self.required)
+
+    @property
+    def natural_width(self) -> int:
+        if "avx512f" in self.feature_set:
+            return 16
+        if "avx2" in self.feature_set:
+            return 8
+        return 4
+
+    @property
+    def has_fma(self) -> bool:
+        return "fma" in self.feature_set
+
+    @property
+    def runnable(self) -> bool:
+        return set(self.required) <= _host_features()
+
+    @functools.cached_property
+    def machine(self) -> llvm.TargetMachine:
+        _llvm_ready()
+        return llvm.Target.from_triple(self.triple).create_target_machine(
+            cpu=self.cpu, features=self.features, opt=3, reloc="pic", codemodel="default"
+        )
+
+    def key(self) -> str:
+        """Everything about the target that changes generated code."""
+        return f"{self.triple}|{self.cpu}|{self.features}"
+
+
+@functools.cache
+def _host_features() -> frozenset[str]:
+    _llvm_ready()
+    return frozenset(k for k, v in llvm.get_host_cpu_features().items() if v)
+
+
+# Forced targets: (cpu, required features). LLVM derives the feature set from
+# the CPU name; "required" is what the host must have to run the code.
+_FORCED = {
+    "avx512": ("skylake-avx512", ("avx512f", "avx512vl", "avx512bw", "avx512dq", "avx2", "fma")),
+    "avx2": ("haswell", ("avx2", "fma")),
+    "sse4": ("nehalem", ("sse4.1", "sse4.2")),
+}
+
+TARGETS = ("host",) + tuple(_FORCED)
+
+
+@functools.cache
+def get_target(name: str = "host") -> Target:
+    """Return the target called ``name`` (one of ``TARGETS``)."""
+    _llvm_ready()
+    triple = llvm.get_process_triple()
+    if name == "host":
+        feats = llvm.get_host_cpu_features().flatten()
+        return Target("host", triple, llvm.get_host_cpu_name(), feats, ())
+    if name not in _FORCED:
+        raise ReactorError(f"unknown target {name!r}; choose one of {', '.join(TARGETS)}")
+    cpu, required = _FORCED[name]
+    return Target(name, triple, cpu, "", required)

@@ -1,0 +1,1 @@
+"""Kernels: compiled loops exposed as NumPy ufuncs."""

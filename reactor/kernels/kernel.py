@@ -1,0 +1,145 @@
+"""``@kernel``: a per-element DSL body becomes a real ``numpy.ufunc``.
+
+::
+
+    @reactor.kernel
+    def saxpy(a: Float, x: Float, y: Float) -> Float:
+        return a * x + y
+
+    saxpy(2.0, xs, ys, out=zs)          # broadcasting, out=, where=, any shape
+
+The body is written once for any width: it receives values of the build's
+SIMD width on the vector path and scalars on the strided path. Several
+inputs and several outputs (``-> (Float, Float)``) are supported. The result
+is an ordinary ufunc (``isinstance(saxpy, numpy.ufunc)``); ``kernel_of(saxpy)``
+returns its ``Kernel`` with the IR, optimized IR and assembly.
+"""
+from __future__ import annotations
+
+import threading
+import weakref
+
+from ..dsl.signature import Signature
+from ..dsl.types import PointerType, VType
+from ..errors import DSLTypeError, ReactorError
+from ..ir import emitter as _em
+from ..options import BuildOptions, current_options
+from .loop import LoopEmitter
+from .ufunc_api import make_ufunc
+
+_registry: "dict[int, weakref.ref[Kernel]]" = {}
+_registry_lock = threading.Lock()
+_memo: "dict[tuple, weakref.ref]" = {}
+
+
+class Kernel:
+    """A compiled kernel: its ufunc's machine code and how it was made."""
+
+    def __init__(self, body, name: str, signature: Signature, options: BuildOptions):
+        from ..jit.compiler import CompiledCode
+        from ..jit.target import get_target
+
+        self.name, self.options = name, options
+        ins, outs = _kinds(signature, name)
+        self.in_kinds, self.out_kinds = ins, outs
+        module = _em.ModuleEmitter(name, options)
+        loop_name = f"{name}.loop"
+        LoopEmitter(module, loop_name, body, ins, outs, options.width).emit()
+        self.code = CompiledCode(str(module.module), get_target(options.target), options.opt,
+                                 (loop_name,), options.cache)
+        doc = (body.__doc__ or f"reactor kernel {name}").strip()
+        self.ufunc = None  # set by build_kernel; the ufunc owns this object
+        self._loop = self.code.address(loop_name)
+        self._signature = [[k.dtype for k in ins + outs]]
+
+    @property
+    def ir(self) -> str:
+        """The module's LLVM IR as built."""
+        return self.code.ir_text
+
+    @property
+    def optimized_ir(self) -> str:
+        return self.code.optimized_ir
+
+    @property
+    def assembly(self) -> str:
+        return self.code.assembly
+
+    def __repr__(self):
+        return f"<reactor.Kernel {self.name} width={self.options.width} fma={self.options.fma}>"
+
+
+def _kinds(signature: Signature, name: str):
+    params, returns = signature.resolved(1, f"kernel '{name}'")
+    if returns is None:
+        raise DSLTypeError(f"kernel '{name}' needs a return annotation (-> Float or -> (Float, Float))")
+    outs = returns if isinstance(returns, tuple) else (returns,)
+    for what, t in [("parameter", p) for p in params] + [("result", r) for r in outs]:
+        if isinstance(t, PointerType) or not isinstance(t, VType) or t.width != 1:
+            raise DSLTypeError(f"kernel '{name}': every {what} must be a scalar element type "
+                               f"(Float, Int, ...), not {t!r}; the body is vectorized for you")
+    if not params:
+        raise DSLTypeError(f"kernel '{name}' needs at least one input")
+    return [p.kind for p in params], [r.kind for r in outs]
+
+
+def build_kernel(body, *, name: str | None = None, args=None, returns=..., **options):
+    """Compile ``body`` into a ufunc (see module docstring); options as for Function."""
+    import inspect
+
+    name = name or body.__name__
+    signature = Signature.from_function(body, args, inspect.Parameter.empty if returns is ... else returns)
+    opts = current_options().merged(**options).resolved()
+    key = (body, name, signature, opts)
+    cached = _memo.get(key)
+    if cached is not None and cached() is not None:
+        return cached().ufunc_ref()
+    kern = Kernel(body, name, signature, opts)
+    doc = (body.__doc__ or f"reactor kernel '{name}'").strip()
+    ufunc = make_ufunc(name, doc, [kern._loop], kern._signature, len(kern.in_kinds),
+                       len(kern.out_kinds), owner=kern)
+    kern.ufunc_ref = _UfuncRef(ufunc)
+    with _registry_lock:
+        _registry[id(ufunc)] = weakref.ref(kern)
+        _memo[key] = weakref.ref(kern)
+    weakref.finalize(kern, _forget, id(ufunc), key)
+    return ufunc
+
+
+class _UfuncRef:
+    """A non-owning handle from a Kernel back to its ufunc (ufuncs have no weakrefs;
+    the ufunc owns the Kernel, so the Kernel being alive means the ufunc is)."""
+
+    def __init__(self, ufunc):
+        import ctypes
+        self._id = id(ufunc)
+        self._cast = ctypes.cast
+
+    def __call__(self):
+        import ctypes
+        return ctypes.cast(self._id, ctypes.py_object).value
+
+
+def _forget(ufunc_id, key):
+    with _registry_lock:
+        _registry.pop(ufunc_id, None)
+        ref = _memo.get(key)
+        if ref is not None and ref() is None:
+            del _memo[key]
+
+
+def kernel(body=None, **kwargs):
+    """Decorator: ``@kernel`` or ``@kernel(width=8, fma=False, name=...)``; returns a numpy.ufunc."""
+    if body is None:
+        return lambda b: build_kernel(b, **kwargs)
+    return build_kernel(body, **kwargs)
+
+
+def kernel_of(ufunc) -> Kernel:
+    """The ``Kernel`` behind a ufunc made by reactor (for its IR and assembly)."""
+    with _registry_lock:
+        ref = _registry.get(id(ufunc))
+    kern = ref() if ref is not None else None
+    if kern is None or kern.ufunc_ref._id != id(ufunc):
+        raise ReactorError(f"{ufunc!r} is not a reactor kernel")
+    return kern
