@@ -7,9 +7,9 @@ optimization, caches) -> ``kernels`` (compiled code as NumPy ufuncs).
 from .dsl.control import Elif, Else, For, If, Return, While
 from .dsl.function import Function, Library, Module, Routine, function
 from .dsl.intrinsics import (
-    Abs, All, Any, As, Ceil, CopySign, Extract, Floor, Fma, Insert, IsFinite, IsInf, IsNan,
-    LaneIndex, Max, MaxNum, Min, MinNum, MulAdd, RcpApprox, Round, RsqrtApprox, Select,
-    ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc,
+    Abs, All, Any, As, Ceil, CopySign, Exponent, Extract, Floor, Fma, Fract, Insert, IsFinite,
+    IsInf, IsNan, LaneIndex, Max, MaxNum, Min, MinNum, MulAdd, RcpApprox, Round, RsqrtApprox, Select, Significand,
+    ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc, fma_mode,
 )
 from .dsl.signature import SIMD, Pointer
 from .dsl.types import KINDS, WIDTHS

@@ -215,7 +215,7 @@ class For(_Block):
         em = self._em
         em.branch_to(self._latch)
         em.goto(self._latch)
-        self._counter.set(self._counter.value + self._step)
+        self._counter.set((self._counter.value + self._step).named("i.next"))
         self._close()
         em.branch_to(self._head)
         em.goto(self._exit)
@@ -226,6 +226,9 @@ def Return(value=None):
     """Return ``value`` (or nothing) from the function being built."""
     em = _em.current()
     fn = em.dsl_function
+    if getattr(fn, "is_kernel", False):  # a `ret` would leave the ufunc loop early
+        raise ControlFlowError(f"Return in the body of kernel '{fn.name}': a kernel body gives its "
+                               f"results with Python 'return' (use Select for per-lane choices)")
     expected = fn.returns
     if expected is None:
         if value is not None:

@@ -49,6 +49,7 @@ class Function:
         self.signature = Signature.from_function(
             body, args, inspect.Parameter.empty if returns is ... else returns)
         self.options = BuildOptions().merged(**options) if options else None
+        self._option_overrides = {k: v for k, v in options.items() if v is not None}
         self._compiled: dict[BuildOptions, Routine] = {}
         self._lock = threading.Lock()
         code = getattr(body, "__code__", None)
@@ -61,8 +62,8 @@ class Function:
     # -- options ----------------------------------------------------------
     def build_options(self, **overrides) -> BuildOptions:
         base = current_options()
-        if self.options is not None:
-            base = base.merged(**{k: v for k, v in vars(self.options).items() if v is not None})
+        if self._option_overrides:  # only the options given, not BuildOptions' defaults
+            base = base.merged(**self._option_overrides)
         return base.merged(**overrides).resolved()
 
     # -- building ---------------------------------------------------------
@@ -210,14 +211,16 @@ def _emit_entry(mod, name, irfn, params, returns):
     argv, retp = em.function.args
     args = []
     for k, p in enumerate(params):
-        slot = em.emit("load", em.emit("gep", argv, [ir.Constant(ir.IntType(64), k)], name=f"argp{k}"), name=f"arg{k}")
+        pname = irfn.args[k].name  # the parameter's name in the DSL function
+        slot = em.emit("load", em.emit("gep", argv, [ir.Constant(ir.IntType(64), k)], name=f"{pname}.argv"),
+                       name=f"{pname}.arg")
         if isinstance(p, PointerType):
-            args.append(em.emit("bitcast", slot, p.ir, name=f"ptr{k}"))
+            args.append(em.emit("bitcast", slot, p.ir, name=pname))
         else:
-            typed = em.emit("bitcast", slot, p.mem_ir.as_pointer(), name=f"slot{k}")
-            val = em.emit("load", typed, name=f"val{k}", align=p.kind.mem_bytes)
+            typed = em.emit("bitcast", slot, p.mem_ir.as_pointer(), name=f"{pname}.slot")
+            val = em.emit("load", typed, name=pname, align=p.kind.mem_bytes)
             if p.kind.category == "bool":
-                val = em.emit("trunc", val, p.ir, name=f"bool{k}")
+                val = em.emit("trunc", val, p.ir, name=f"{pname}.bool")
             args.append(val)
     result = em.call(irfn, args, name="result" if returns is not None else "")
     if returns is not None:
@@ -309,9 +312,9 @@ def _argument(routine: str, name: str, p, a, scalars) -> np.ndarray:
         if isinstance(p.length, str):
             count = int(scalars[p.length])
         need = max(count, 0) * vt.width
-        if a.size < need or a.size == 0:
+        if a.size < need:
             raise ArgumentError(f"{where} has {a.size} element(s) but the routine may access "
-                                f"{max(need, 1)} ({p.name})")
+                                f"{need} ({p.name})")
         return a
     if p.width > 1:
         arr = np.asarray(a)

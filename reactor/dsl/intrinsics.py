@@ -12,6 +12,8 @@ NaN behaviour:
 """
 from __future__ import annotations
 
+import contextlib
+
 from llvmlite import ir
 
 from ..errors import DSLTypeError, FmaDisabledError, WidthMismatchError
@@ -98,7 +100,7 @@ def MulAdd(a, b, c):
     otherwise a rounded multiply followed by an add. This is the FMA toggle."""
     vt, x, y, z = _fused_args(a, b, c, "MulAdd")
     em = _em.current()
-    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.options.fma), em)
+    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.fma), em)
 
 
 def Fma(a, b, c):
@@ -106,9 +108,22 @@ def Fma(a, b, c):
     (use ``MulAdd`` for code that should follow the toggle)."""
     vt, x, y, z = _fused_args(a, b, c, "Fma")
     em = _em.current()
-    if not em.options.fma:
-        raise FmaDisabledError("Fma used in a build with fma=False; use MulAdd to follow the FMA toggle")
+    if not em.fma:
+        raise FmaDisabledError("Fma used where FMA is off (fma=False); use MulAdd to follow the FMA toggle")
     return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, True), em)
+
+
+@contextlib.contextmanager
+def fma_mode(enabled: bool | None):
+    """Inside the block, ``MulAdd`` fuses iff ``enabled`` (None: keep the build's setting)."""
+    em = _em.current()
+    saved = em.fma
+    if enabled is not None:
+        em.fma = bool(enabled)
+    try:
+        yield
+    finally:
+        em.fma = saved
 
 
 def As(type_, x):
@@ -198,22 +213,87 @@ def LaneIndex(width: int | None = None):
     return value_class(vt)._wrap(lanes[0] if vt.width == 1 else ir.Constant(vt.ir, lanes), em)
 
 
-def _estimate(name: str, x):
-    """Hardware reciprocal / rsqrt estimate (x86 RCP14/RSQRT14 with AVX-512,
-    RCPPS/RSQRTPS otherwise: relative error <= 2^-14 resp. 1.5*2^-12)."""
-    if not isinstance(x, Value) or x.kind.name != "Float":
-        raise DSLTypeError(f"{name} estimates Float values, not {x!r}")
-    em = _em.current()
+def _features():
     from ..jit.target import get_target
-    feats = get_target(em.options.target).feature_set
-    return value_class(x.vtype)._wrap(ops.estimate(em, name, x.vtype, x.ir, feats), em)
+    return get_target(_em.current().options.target).feature_set
+
+
+def _require_float(name: str, x):
+    if not isinstance(x, Value) or x.kind.name != "Float":
+        raise DSLTypeError(f"{name} is defined for Float values (any width), not {x!r}")
+
+
+def _native(name: str, x, natives):
+    em = _em.current()
+    return value_class(x.vtype)._wrap(ops.by_native_width(em, x.vtype, x.ir, natives), em).named(name)
 
 
 def RcpApprox(x):
-    """Hardware estimate of 1/x (about 14 bits with AVX-512, 12 bits otherwise)."""
-    return _estimate("rcp", x)
+    """Hardware estimate of 1/x: RCP14 (relative error < 2^-14) with AVX-512,
+    RCPPS (< 1.5 * 2^-12) otherwise. 1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN."""
+    _require_float("RcpApprox", x)
+    em = _em.current()
+    return value_class(x.vtype)._wrap(ops.estimate(em, "rcp", x.vtype, x.ir, _features()), em)
 
 
 def RsqrtApprox(x):
-    """Hardware estimate of 1/sqrt(x) (about 14 bits with AVX-512, 12 bits otherwise)."""
-    return _estimate("rsqrt", x)
+    """Hardware estimate of 1/sqrt(x): RSQRT14 (< 2^-14) with AVX-512, RSQRTPS
+    (< 1.5 * 2^-12) otherwise. ±0 -> ±inf, +inf -> +0, x < 0 -> NaN."""
+    _require_float("RsqrtApprox", x)
+    em = _em.current()
+    return value_class(x.vtype)._wrap(ops.estimate(em, "rsqrt", x.vtype, x.ir, _features()), em)
+
+
+def Fract(x):
+    """``x - Floor(x)`` in [0, 1), exact, for finite ``x`` (one AVX-512DQ
+    VREDUCEPS); ``Fract(±inf) = 0``, ``Fract(NaN) = NaN``. A zero result may
+    be -0.0."""
+    _require_float("Fract", x)
+    natives = ops.avx512_natives(_features(), "reduce", imm=1, need="avx512dq")
+    if natives:
+        return _native("fract", x, natives)
+    return Select(IsInf(x), 0.0, x - Floor(x)).named("fract")
+
+
+_MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000
+
+
+def _normalized_bits(x):
+    """(|x|, its bits, tiny mask, bits of |x| with subnormals scaled by 2^23)."""
+    from .values import vector_type
+    Int_ = vector_type("Int", x.width)
+    Float_ = vector_type("Float", x.width)
+    ax = Abs(x)
+    bits = As(Int_, ax)
+    tiny = bits < _MIN_NORMAL_BITS
+    scaled = As(Int_, Select(tiny, ax * float(2 ** 23), ax))
+    return ax, bits, tiny, scaled, Int_, Float_
+
+
+def Exponent(x):
+    """floor(log2|x|) as a float, exact for subnormals; ±0 -> -inf, ±inf -> +inf,
+    NaN -> NaN (AVX-512 VGETEXPPS; an integer-bit emulation elsewhere)."""
+    _require_float("Exponent", x)
+    natives = ops.avx512_natives(_features(), "getexp")
+    if natives:
+        return _native("exponent", x, natives)
+    ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
+    e = Float_((scaled >> 23) - Select(tiny, Int_(150), 127))
+    e = Select(ax == 0.0, float("-inf"), e)
+    return Select(bits >= _INF_BITS, ax, e).named("exponent")
+
+
+def Significand(x):
+    """|x| / 2^Exponent(x), in [1, 2) for finite non-zero x >= 0, exact for
+    subnormals; +0 -> 1, -0 -> -1, +inf -> 1, x < 0 (and -inf) -> NaN,
+    NaN -> NaN (AVX-512 VGETMANTPS with sign control "NaN if negative")."""
+    _require_float("Significand", x)
+    natives = ops.avx512_natives(_features(), "getmant", imm=0b1000)
+    if natives:
+        return _native("significand", x, natives)
+    ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
+    m = As(Float_, (scaled & 0x007FFFFF) | 0x3F800000)
+    m = Select(bits == _INF_BITS, 1.0, m)
+    m = Select(x < 0.0, float("nan"), m)
+    m = Select(IsNan(x), x, m)
+    return Select(ax == 0.0, CopySign(1.0, x), m).named("significand")

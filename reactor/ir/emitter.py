@@ -91,6 +91,7 @@ class FunctionEmitter:
         self.module = module
         self.options = module.options
         self.width = width or module.options.width
+        self.fma = module.options.fma  # what MulAdd emits; see reactor.fma_mode
         fnty = ir.FunctionType(ret, args)
         self.function = ir.Function(module.module, fnty, name=name)
         for arg, argname in zip(self.function.args, arg_names):
@@ -222,12 +223,16 @@ class FunctionEmitter:
             reachable.add(block.name)
             if block.is_terminated:
                 todo.extend(op for op in block.terminator.operands if isinstance(op, ir.Block))
+        targets = {op.name for block in self.function.blocks if block.is_terminated
+                   for op in block.terminator.operands if isinstance(op, ir.Block)}
         open_blocks = []
-        for block in self.function.blocks:
+        for block in list(self.function.blocks):
             if block.is_terminated:
                 continue
             if block.name in reachable:
                 open_blocks.append(block)
+            elif not block.instructions and block.name not in targets:
+                self.function.blocks.remove(block)  # e.g. the empty block after a final Return
             else:
                 self._b.position_at_end(block)
                 self._b.unreachable()

@@ -211,64 +211,28 @@ def convert(em, src: VType, dst: VType, value, *, rounding: str = "trunc", satur
     return em.freeze(em.emit(op, value, dst.ir, name=name), name=name)
 
 
-# -- hardware estimates (x86) -------------------------------------------------
+# -- x86 instructions at any width ------------------------------------------
 
-def _native_widths(features: frozenset[str]) -> tuple[tuple[int, str], ...]:
-    """(width, intrinsic-name template) pairs the target has, widest first."""
-    if "avx512f" in features:
-        out = [(16, "llvm.x86.avx512.{op}14.ps.512")]
-        if "avx512vl" in features:
-            out += [(8, "llvm.x86.avx512.{op}14.ps.256"), (4, "llvm.x86.avx512.{op}14.ps.128")]
-        else:
-            out += [(8, "llvm.x86.avx.{op}.ps.256"), (4, "llvm.x86.sse.{op}.ps")]
-        return tuple(out)
-    if "avx" in features:
-        return ((8, "llvm.x86.avx.{op}.ps.256"), (4, "llvm.x86.sse.{op}.ps"))
-    if "sse" in features or "sse2" in features:
-        return ((4, "llvm.x86.sse.{op}.ps"),)
-    return ()
+def by_native_width(em, vt: VType, value, natives):
+    """Apply a width-specific instruction to a value of any width.
 
-
-def _estimate_native(em, template: str, op: str, value, width: int):
-    vty = ir.VectorType(ir.FloatType(), width)
-    name = template.format(op=op)
-    if "avx512" in name:
-        mask_ty = ir.IntType(max(width, 8))
-        fn = em.intrinsic(name, vty, [vty, vty, mask_ty])
-        zero = ir.Constant(vty, [ir.Constant(ir.FloatType(), 0.0)] * width)
-        return em.call(fn, [value, zero, ir.Constant(mask_ty, -1)], name=f"{op}.est")
-    fn = em.intrinsic(name, vty, [vty])
-    return em.call(fn, [value], name=f"{op}.est")
-
-
-def estimate(em, op: str, vt: VType, value, features: frozenset[str]):
-    """Hardware estimate of 1/x (op "rcp") or 1/sqrt(x) (op "rsqrt") at any width.
-
-    Widths the target lacks are split into native pieces (or a scalar is
-    widened to 4 lanes); targets without an estimate instruction get the exact
-    quotient, which is more accurate than any estimate.
+    ``natives`` lists ``(width, emit)`` pairs the target has, widest first,
+    where ``emit(value_ir) -> ir`` handles exactly that many float lanes.
+    Wider values are split into native pieces and joined; a scalar is
+    broadcast into the narrowest native vector and lane 0 is taken.
     """
-    natives = _native_widths(features)
-    if not natives:
-        one = const(vt, 1.0)
-        if op == "rsqrt":
-            value = intrinsic(em, "llvm.sqrt", vt, [value])
-        return em.emit("fdiv", one, value, name=f"{op}.exact")
-    if vt.width == 1:
-        four = splat(em, 4, value)
-        width, template = natives[-1]
-        est = _estimate_native(em, template, op, four, width)
-        return em.emit("extract_element", est, ir.Constant(ir.IntType(32), 0), name=f"{op}.est")
-    for width, template in natives:
-        if width == vt.width:
-            return _estimate_native(em, template, op, value, width)
-    width, template = next((w, t) for w, t in natives if w < vt.width)
     idx = ir.IntType(32)
+    if vt.width == 1:
+        width, emit = natives[-1]
+        return em.emit("extract_element", emit(splat(em, width, value)), ir.Constant(idx, 0), name="lane0")
+    for width, emit in natives:
+        if width == vt.width:
+            return emit(value)
+    width, emit = next((w, e) for w, e in natives if w < vt.width)
     parts = []
     for start in range(0, vt.width, width):
         mask = ir.Constant(ir.VectorType(idx, width), [ir.Constant(idx, start + i) for i in range(width)])
-        piece = em.emit("shuffle_vector", value, value, mask, name="part")
-        parts.append(_estimate_native(em, template, op, piece, width))
+        parts.append(emit(em.emit("shuffle_vector", value, value, mask, name="part")))
     while len(parts) > 1:
         merged = []
         for a, b in zip(parts[::2], parts[1::2]):
@@ -277,3 +241,59 @@ def estimate(em, op: str, vt: VType, value, features: frozenset[str]):
             merged.append(em.emit("shuffle_vector", a, b, mask, name="join"))
         parts = merged
     return parts[0]
+
+
+def _avx512_masked(em, base: str, width: int, value, imm=None, name=""):
+    """Call ``llvm.x86.avx512.mask.<base>.ps.<bits>`` with all lanes enabled."""
+    vty = ir.VectorType(ir.FloatType(), width)
+    mask_ty = ir.IntType(max(width, 8))
+    zero = ir.Constant(vty, [ir.Constant(ir.FloatType(), 0.0)] * width)
+    args = [value] + ([ir.Constant(ir.IntType(32), imm)] if imm is not None else []) + [zero, ir.Constant(mask_ty, -1)]
+    if width == 16 and base != "rcp14" and base != "rsqrt14":
+        args.append(ir.Constant(ir.IntType(32), 4))  # current rounding direction
+    fn = em.intrinsic(f"llvm.x86.avx512.{'' if base.endswith('14') else 'mask.'}{base}.ps.{32 * width}",
+                      vty, [a.type for a in args])
+    return em.call(fn, args, name=name or base)
+
+
+def avx512_natives(features: frozenset[str], base: str, imm=None, need: str = "avx512f"):
+    """(width, emit) pairs for an AVX-512 float instruction, or () without AVX-512."""
+    if need not in features:
+        return ()
+    widths = (16, 8, 4) if "avx512vl" in features else (16,)
+    return tuple((w, lambda v, w=w: _avx512_masked(_em_of(v), base, w, v, imm)) for w in widths)
+
+
+def _em_of(value):
+    from . import emitter
+    return emitter.current()
+
+
+# -- hardware estimates (x86) -------------------------------------------------
+
+def _estimate_natives(features: frozenset[str], op: str):
+    out = list(avx512_natives(features, f"{op}14"))
+    legacy = {8: f"llvm.x86.avx.{op}.ps.256", 4: f"llvm.x86.sse.{op}.ps"}
+    have = {w for w, _ in out}
+    for width, name in legacy.items():
+        if width in have or (width == 8 and "avx" not in features) or "sse" not in features:
+            continue
+        def emit(v, name=name, width=width):
+            em = _em_of(v)
+            vty = ir.VectorType(ir.FloatType(), width)
+            return em.call(em.intrinsic(name, vty, [vty]), [v], name=f"{op}.est")
+        out.append((width, emit))
+    return tuple(sorted(out, key=lambda p: -p[0]))
+
+
+def estimate(em, op: str, vt: VType, value, features: frozenset[str]):
+    """Hardware estimate of 1/x (op "rcp") or 1/sqrt(x) (op "rsqrt") at any width:
+    RCP14/RSQRT14 (relative error < 2^-14) with AVX-512, RCPPS/RSQRTPS
+    (< 1.5 * 2^-12) with SSE/AVX; targets without either get the exact value."""
+    natives = _estimate_natives(features, op)
+    if not natives:
+        one = const(vt, 1.0)
+        if op == "rsqrt":
+            value = intrinsic(em, "llvm.sqrt", vt, [value])
+        return em.emit("fdiv", one, value, name=f"{op}.exact")
+    return by_native_width(em, vt, value, natives)

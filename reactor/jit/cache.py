@@ -3,12 +3,14 @@
 The disk cache lives in ``$REACTOR_CACHE_DIR`` (default
 ``~/.cache/reactor``); ``REACTOR_CACHE=0`` disables it. Entries are object
 files named by a SHA-256 over the IR text, target CPU and features, options
-and llvmlite version, written atomically, so concurrent processes can share
-the directory and a stale entry can never be picked up.
+and llvmlite version, written atomically with a SHA-256 of their contents (a
+damaged file is a miss), so concurrent processes can share the directory and a
+stale entry can never be picked up.
 """
 from __future__ import annotations
 
 import collections
+import hashlib
 import os
 import tempfile
 import threading
@@ -52,9 +54,12 @@ def disk_get(key: str) -> bytes | None:
         return None
     try:
         with open(os.path.join(root, key + ".o"), "rb") as f:
-            return f.read()
+            data = f.read()
     except OSError:
         return None
+    # A damaged entry (truncated, overwritten) is a miss, never an object to link.
+    digest, obj = data[:32], data[32:]
+    return obj if obj and hashlib.sha256(obj).digest() == digest else None
 
 
 def disk_put(key: str, obj: bytes) -> None:
@@ -65,7 +70,7 @@ def disk_put(key: str, obj: bytes) -> None:
         os.makedirs(root, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=root, suffix=".tmp")
         with os.fdopen(fd, "wb") as f:
-            f.write(obj)
+            f.write(hashlib.sha256(obj).digest() + obj)
         os.replace(tmp, os.path.join(root, key + ".o"))
     except OSError:
         pass  # a read-only or full disk only costs a recompile next time

@@ -92,13 +92,15 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., **opt
     opts = current_options().merged(**options).resolved()
     key = (body, name, signature, opts)
     cached = _memo.get(key)
-    if cached is not None and cached() is not None:
-        return cached().ufunc_ref()
+    cached = cached() if cached is not None else None
+    if cached is not None and cached.ufunc_ref() is not None:
+        return cached.ufunc_ref()
     kern = Kernel(body, name, signature, opts)
     doc = (body.__doc__ or f"reactor kernel '{name}'").strip()
+    kern.ufunc_ref = ref = _UfuncRef()
     ufunc = make_ufunc(name, doc, [kern._loop], kern._signature, len(kern.in_kinds),
-                       len(kern.out_kinds), owner=kern)
-    kern.ufunc_ref = _UfuncRef(ufunc)
+                       len(kern.out_kinds), owner=(kern, _UfuncFreed(ref)))
+    ref._id = id(ufunc)
     with _registry_lock:
         _registry[id(ufunc)] = weakref.ref(kern)
         _memo[key] = weakref.ref(kern)
@@ -107,22 +109,33 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., **opt
 
 
 class _UfuncRef:
-    """A non-owning handle from a Kernel back to its ufunc (ufuncs have no weakrefs;
-    the ufunc owns the Kernel, so the Kernel being alive means the ufunc is)."""
+    """A non-owning handle from a Kernel back to its ufunc (ufuncs have no weakrefs).
+    The ufunc owns the Kernel, but the Kernel may outlive it (``kernel_of``), so
+    ``_UfuncFreed`` clears the handle when the ufunc is freed; then it gives None."""
 
-    def __init__(self, ufunc):
-        import ctypes
-        self._id = id(ufunc)
-        self._cast = ctypes.cast
+    def __init__(self):
+        self._id = None
 
     def __call__(self):
         import ctypes
-        return ctypes.cast(self._id, ctypes.py_object).value
+        return None if self._id is None else ctypes.cast(self._id, ctypes.py_object).value
+
+
+class _UfuncFreed:
+    """Owned by the ufunc alone: freed with it, and then kills the Kernel's handle."""
+
+    def __init__(self, ref):
+        self.ref = ref
+
+    def __del__(self):
+        self.ref._id = None
 
 
 def _forget(ufunc_id, key):
     with _registry_lock:
-        _registry.pop(ufunc_id, None)
+        ref = _registry.get(ufunc_id)
+        if ref is not None and ref() is None:  # another live kernel may reuse the id
+            del _registry[ufunc_id]
         ref = _memo.get(key)
         if ref is not None and ref() is None:
             del _memo[key]

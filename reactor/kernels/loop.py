@@ -10,6 +10,11 @@ is NumPy's ufunc loop signature. For ``n = dims[0]`` elements it runs:
 * otherwise a scalar loop that follows arbitrary (negative, zero, unaligned
   multiple) strides.
 
+Floating-point exception flags are saved on entry and restored on exit (x86
+MXCSR): masked-off tail lanes and the routines' special-value paths compute on
+values whose flags mean nothing, so kernels report no floating-point warnings
+through NumPy's ``errstate``.
+
 The user's body is traced once per path, at the path's width.
 """
 from __future__ import annotations
@@ -51,8 +56,9 @@ class LoopEmitter:
             for k in range(nargs):
                 self.ptrs.append(em.emit("load", em.emit("gep", args, [_c64(k)], name=f"argp{k}"), name=f"arg{k}"))
                 self.steps.append(em.emit("load", em.emit("gep", steps, [_c64(k)], name=f"stepp{k}"), name=f"step{k}"))
+            flags = self._save_fp_flags()
             end = em.new_block("done")
-            for pattern in self._patterns():
+            for pattern in (self._patterns() if self.width > 1 else ()):
                 cond = self._pattern_test(pattern)
                 vec, nxt = em.new_block("vector"), em.new_block("next")
                 em.cbranch(cond, vec, nxt)
@@ -63,9 +69,24 @@ class LoopEmitter:
             self._strided_loop()
             em.branch_to(end)
             em.goto(end)
+            self._restore_fp_flags(flags)
             em.ret(None)
             em.finish()
         return em.function
+
+    # -- floating-point status ---------------------------------------------------
+    def _save_fp_flags(self):
+        if not self.em.module.module.triple.startswith(("x86_64", "i686")):
+            return None
+        slot = self.em.alloca(ir.IntType(32), "mxcsr")
+        fn = self.em.intrinsic("llvm.x86.sse.stmxcsr", ir.VoidType(), [I8P])
+        self.em.call(fn, [self.em.emit("bitcast", slot, I8P, name="mxcsr.p")])
+        return slot
+
+    def _restore_fp_flags(self, slot):
+        if slot is not None:
+            fn = self.em.intrinsic("llvm.x86.sse.ldmxcsr", ir.VoidType(), [I8P])
+            self.em.call(fn, [self.em.emit("bitcast", slot, I8P, name="mxcsr.p")])
 
     # -- layout patterns -----------------------------------------------------
     def _patterns(self):
@@ -206,6 +227,7 @@ class _KernelBody:
     """Stands in for the function being built: kernel bodies return with Python ``return``."""
 
     returns = None
+    is_kernel = True  # Return() is an error in kernel bodies
 
     def __init__(self, name):
         self.name = name

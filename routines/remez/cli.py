@@ -22,12 +22,12 @@ import sys
 import numpy as np
 from mpmath import mp, mpf
 
-from .expr import ExpressionError, parse
+from .expr import Expression, ExpressionError, parse
 from .fit import RemezError, RemezResult, remez
 
 
 class _UsageError(Exception):
-    pass
+    """Invalid command-line input (exit status 2)."""
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -49,7 +49,7 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def _expression(text: str, what: str):
+def _expression(text: str, what: str) -> Expression:
     try:
         return parse(text)
     except ExpressionError as exc:

@@ -24,7 +24,6 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-import mpmath
 from mpmath import mp, mpf
 
 __all__ = ["FUNCTIONS", "Expression", "ExpressionError", "parse"]
@@ -41,9 +40,10 @@ class ExpressionError(ValueError):
         self.position = position
 
 
-def _real(name: str, value) -> mpf:
+def _power(base: mpf, exponent: mpf) -> mpf:
+    value = mp.power(base, exponent)
     if not isinstance(value, mpf):
-        raise ValueError(f"{name} is not real here")
+        raise ValueError("negative number to a fractional power")
     return value
 
 
@@ -84,7 +84,7 @@ class Expression:
     _node: Node
 
     def __call__(self, x) -> mpf:
-        return _real(repr(self.text), self._node(mpf(x)))
+        return self._node(mpf(x))
 
     def __str__(self) -> str:
         return self.text
@@ -187,7 +187,7 @@ class _Parser:
             if self.peek() == ",":
                 raise self.error(f"function {tok!r} takes exactly one argument")
             self.close(open_pos)
-            return lambda x: _real(f"{tok}()", fn(arg(x)))
+            return lambda x: fn(arg(x))
         if tok == ")":
             raise self.error("unbalanced parenthesis: unexpected ')'", pos)
         raise self.error(f"unexpected {tok!r}", pos)
@@ -209,4 +209,4 @@ def _binary(op: str, left: Node, right: Node) -> Node:
         return lambda x: left(x) * right(x)
     if op == "/":
         return lambda x: left(x) / right(x)
-    return lambda x: _real("power", mpmath.power(left(x), right(x)))
+    return lambda x: _power(left(x), right(x))

@@ -113,9 +113,11 @@ def evaluate(fn: Function, x: mpf, a: mpf, b: mpf) -> mpf:
         try:
             y1, y2 = mpf(fn(x + step)), mpf(fn(x + 2 * step))
         except (ArithmeticError, ValueError) as exc:
-            raise RemezError(f"cannot evaluate {fn} at or near x = {mp.nstr(x, 15)}: {str(exc) or type(exc).__name__}") from exc
-        if mp.isfinite(y1) and abs(y1 - y2) <= half_eps * max(abs(y1), 1):
-            return +y1
+            reason = str(exc) or type(exc).__name__
+            raise RemezError(f"cannot evaluate {fn} at or near x = {mp.nstr(x, 15)}: {reason}") from exc
+        converges = mp.isfinite(y1) and abs(y1 - y2) <= half_eps * max(abs(y1), 1)
+    if converges:
+        return +y1
     return mp.inf if y1 > 0 else -mp.inf
 
 
@@ -137,16 +139,18 @@ class _Problem:
         return self.a if t == -1 else self.b if t == 1 else self.mid + self.half * t
 
     def fw(self, t: mpf) -> tuple[mpf, mpf]:
+        """``f(x)`` and ``|w(x)|``, evaluated with as many guard bits as working
+        bits so that cancellation within ``2**-(prec/2)`` of a removable
+        singularity does not reach the working precision."""
         x = self.x(t)
-        fx = evaluate(self.f, x, self.a, self.b)
+        with mp.workprec(2 * mp.prec):
+            fx = evaluate(self.f, x, self.a, self.b)
+            wx = mpf(1) if self.weight is None else abs(evaluate(self.weight, x, self.a, self.b))
         if not mp.isfinite(fx):
             raise RemezError(f"f(x) = {self.f} has a pole or non-removable singularity at x = {mp.nstr(x, 15)}")
-        if self.weight is None:
-            return fx, mpf(1)
-        wx = abs(evaluate(self.weight, x, self.a, self.b))
         if wx == 0:
             raise RemezError(f"weight {self.weight} is zero at x = {mp.nstr(x, 15)}")
-        return fx, wx
+        return +fx, +wx
 
     def error(self, q: Sequence[mpf], t: mpf) -> mpf:
         fx, wx = self.fw(t)
@@ -293,7 +297,8 @@ def remez(
     ``max_iter`` steps, if the check fails, if ``f`` has a pole on the
     interval, or if the best error is at the noise level of ``dps`` digits
     (``f`` is numerically a polynomial of this degree: lower the degree or
-    raise ``dps``).
+    raise ``dps``); :class:`ValueError` if ``degree < 0`` or ``a >= b``, and
+    :class:`~routines.remez.expr.ExpressionError` for an invalid expression.
     """
     if degree < 0:
         raise ValueError(f"degree must be >= 0, got {degree}")

@@ -1,0 +1,19 @@
+"""routines: float32 exp2, log2, pow (and exp, log, rcp, rsqrt, sqrt) for reactor.
+
+Each routine is a DSL builder usable inside any reactor Function or kernel, in
+"full" (Vulkan highp) or "relaxed" (Vulkan mediump / RelaxedPrecision)
+precision, with ``fma=None`` following the enclosing build's FMA setting::
+
+    @reactor.kernel
+    def gamma(x: Float) -> Float:
+        return routines.pow(x, 1 / 2.2, precision="relaxed")
+
+``routines.jit(name, precision, fma, width)`` returns a ready NumPy ufunc.
+"""
+from .exponential import exp, exp2
+from .kernels import NAMES, jit
+from .logarithm import log, log2
+from .power import pow  # noqa: A004 - the routine's public name
+from .reciprocal import rcp, rsqrt, sqrt
+
+__all__ = ["exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt", "jit", "NAMES"]

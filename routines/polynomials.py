@@ -1,0 +1,117 @@
+"""Every polynomial the routines evaluate, with its provenance.
+
+Each ``Polynomial`` records what it approximates, on which interval, with
+which weight (LolRemez's convention: the weight is the *tolerance*, larger
+means less accurate there), its coefficients as float32 decimals (highest
+degree first, exactly as they appear in the emitted IR), where they came from,
+and the error measured on the compiled routine that uses it.
+
+The coefficients below are those of the reference write-up
+(``shared/refs/000_84390b1a4f8484b8.txt``, produced there by LolRemez); our own
+fitter reproduces each to within one float32 ulp
+(``python -m routines remez ...``, see docs/remez.md).
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from reactor import MulAdd
+
+
+@dataclasses.dataclass(frozen=True)
+class Polynomial:
+    """A float32 polynomial and its provenance (coefficients highest degree first)."""
+
+    name: str
+    function: str
+    weight: str
+    interval: tuple[str, str]
+    coefficients: tuple[str, ...]
+    provenance: str
+    measured: str = ""
+
+    @property
+    def degree(self) -> int:
+        return len(self.coefficients) - 1
+
+    @property
+    def values(self) -> tuple[float, ...]:
+        """The coefficients as the float32 values the code uses."""
+        return tuple(float(np.float32(c)) for c in self.coefficients)
+
+    def remez_command(self) -> str:
+        lo, hi = self.interval
+        w = f' "{self.weight}"' if self.weight else ""
+        return f'python -m routines remez -d {self.degree} -r "{lo}:{hi}" "{self.function}"{w}'
+
+    def __call__(self, x):
+        """Emit Horner's scheme in ``x`` with ``MulAdd`` (fused iff FMA is on)."""
+        c = self.values
+        acc = MulAdd(x, c[0], c[1])
+        for coeff in c[2:]:
+            acc = MulAdd(acc, x, coeff)
+        return acc
+
+    def evaluate(self, x: np.ndarray, fma: bool) -> np.ndarray:
+        """The same Horner scheme in NumPy float32 (float64-exact FMA emulation), for tests."""
+        x = np.asarray(x, np.float32)
+        c = [np.float32(v) for v in self.values]
+        acc = _muladd(x, c[0], c[1], fma)
+        for coeff in c[2:]:
+            acc = _muladd(acc, x, coeff, fma)
+        return acc
+
+
+def _muladd(a, b, c, fma):
+    if fma:  # a*b is exact in float64, and the sum rounds once (barring double rounding)
+        return (a.astype(np.float64) * np.float64(b) + np.float64(c)).astype(np.float32)
+    return (np.float32(a) * np.float32(b) + np.float32(c)).astype(np.float32)
+
+
+EXP2_FULL = Polynomial(
+    name="exp2.full",
+    function="(2^x-x-1)/x", weight="1/x", interval=("0", "1"),
+    coefficients=("1.8852974e-3", "8.9733787e-3", "5.5835927e-2", "2.4015281e-1", "-3.0684753e-1"),
+    provenance="reference write-up, section 'Gaining Significance' (LolRemez --float -d 4 -r 0:1 "
+               "\"(2^x-x-1)/x\" \"1/x\"); our fitter agrees to 1 float32 ulp in one coefficient",
+)
+
+EXP2_RELAXED = Polynomial(
+    name="exp2.relaxed",
+    function="(2^x-x-1)/x", weight="1/x", interval=("0", "1"),
+    coefficients=("7.8145574e-2", "2.2617357e-1", "-3.0444314e-1"),
+    provenance="reference write-up, section 'Relaxing with a Halfling': the degree-2 fit of "
+               "(2^x-1)/x with weight 1/x, constant term minus 1 (exact in decimal)",
+)
+
+LOG2_FULL = Polynomial(
+    name="log2.full",
+    function="(log2(x+1)-x)/x", weight="1/x", interval=("0", "1"),
+    coefficients=("-9.3091638e-3", "5.2059003e-2", "-1.3752135e-1", "2.4186478e-1",
+                  "-3.4730109e-1", "4.786837e-1", "-7.2116581e-1", "4.4268988e-1"),
+    provenance="reference write-up, section 'Second Try' (LolRemez --float -d 7 -r 0:1 "
+               "\"(log2(x+1)-x)/x\" \"1/x\"); our fitter agrees to 1 float32 ulp in three coefficients",
+)
+
+LOG2_RELAXED = Polynomial(
+    name="log2.relaxed",
+    function="(log2(x+1)-x)/x", weight="1/x", interval=("0", "1"),
+    # The reference's un-normalized fit on [0, 2^23] (2.8017103e-22, -8.373131e-15,
+    # 5.0615534e-8) is this polynomial with x scaled by 2^-23: coefficient k times
+    # 2^(23(k+1)). Powers of two scale exactly, so both evaluate identically.
+    coefficients=("0.16538379", "-0.5892067", "0.42459387"),
+    provenance="reference write-up, section 'The Vanishingly Small and Unfathomably Large' "
+               "(LolRemez --float -d 2 -r 0:2^23 \"(log2(x/2^23+1)-x/2^23)/x\" \"1/x\"), rescaled "
+               "exactly by powers of two to the normalized mantissa in [0, 1)",
+)
+
+LOG2_RELAXED_UNNORMALIZED = Polynomial(
+    name="log2.relaxed.unnormalized",
+    function="(log2(x/2^23+1)-x/2^23)/x", weight="1/x", interval=("0", "2^23"),
+    coefficients=("2.8017103e-22", "-8.373131e-15", "5.0615534e-8"),
+    provenance="reference write-up, section 'The Vanishingly Small and Unfathomably Large'",
+)
+
+ALL = (EXP2_FULL, EXP2_RELAXED, LOG2_FULL, LOG2_RELAXED, LOG2_RELAXED_UNNORMALIZED)

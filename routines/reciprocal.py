@@ -1,0 +1,61 @@
+"""rcp (1/x), rsqrt (1/sqrt(x)) and sqrt.
+
+Full precision refines the hardware estimate (RCP14/RSQRT14 with AVX-512,
+relative error < 2^-14; RCPPS/RSQRTPS, < 1.5 * 2^-12, elsewhere) with one
+Newton-Raphson step, written so the residual is computed with one rounding
+when FMA is on:
+
+    rcp:   e = 1 - x*r,         r' = r + r*e
+    rsqrt: e = 1 - (x*r)*r,     r' = r + (r/2)*e
+
+The step turns 0 -> inf and inf -> 0 into NaN (0 * inf in the residual; see
+shared/refs/004): wherever the residual is NaN the estimate is kept, which is
+exactly right for ±0, ±inf and NaN inputs (and negative inputs of rsqrt).
+Relaxed precision uses the estimate alone: its error is at most 1/16 (AVX-512)
+or 3/8 of a binary16 ULP.
+
+sqrt: full precision is the correctly rounded hardware square root; relaxed is
+x * rsqrt_estimate(x), with ±0 and +inf (where that product is 0 * inf) passed
+through.
+"""
+from __future__ import annotations
+
+from reactor import IsNan, MulAdd, RcpApprox, RsqrtApprox, Select, Sqrt
+
+from .base import float_value, routine
+
+
+def _keep_estimate_where_nan(residual, estimate, refined):
+    return Select(IsNan(residual), estimate, refined)
+
+
+@routine
+def rcp(x, precision: str = "full"):
+    """1/x: IEEE specials (1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN)."""
+    x = float_value(x, "rcp")
+    r = RcpApprox(x)
+    if precision == "relaxed":
+        return r.named("rcp")
+    e = MulAdd(-x, r, 1.0)
+    return _keep_estimate_where_nan(e, r, MulAdd(r, e, r)).named("rcp")
+
+
+@routine
+def rsqrt(x, precision: str = "full"):
+    """1/sqrt(x): ±0 -> ±inf, +inf -> +0, x < 0 -> NaN, NaN -> NaN."""
+    x = float_value(x, "rsqrt")
+    r = RsqrtApprox(x)
+    if precision == "relaxed":
+        return r.named("rsqrt")
+    e = MulAdd(-(x * r), r, 1.0)
+    return _keep_estimate_where_nan(e, r, MulAdd(r * 0.5, e, r)).named("rsqrt")
+
+
+@routine
+def sqrt(x, precision: str = "full"):
+    """sqrt(x): ±0 -> ±0, +inf -> +inf, x < 0 -> NaN, NaN -> NaN."""
+    x = float_value(x, "sqrt")
+    if precision == "full":
+        return Sqrt(x).named("sqrt")
+    s = x * RsqrtApprox(x)
+    return Select(IsNan(s) & (x >= 0.0), x, s).named("sqrt")
