@@ -9,8 +9,10 @@ when FMA is on:
     rsqrt: e = 1 - (x*r)*r,     r' = r + (r/2)*e
 
 The step turns 0 -> inf and inf -> 0 into NaN (0 * inf in the residual; see
-shared/refs/004): wherever the residual is NaN the estimate is kept, which is
-exactly right for ±0, ±inf and NaN inputs (and negative inputs of rsqrt).
+shared/refs/004), and so does an infinite estimate of a subnormal's
+reciprocal (inf + inf * -inf). Wherever the refined value is NaN the estimate
+is kept, which is exactly right in all these cases, and for NaN inputs (and
+negative inputs of rsqrt) the estimate is NaN too.
 Relaxed precision uses the estimate alone: its error is at most 1/16 (AVX-512)
 or 3/8 of a binary16 ULP.
 
@@ -25,8 +27,8 @@ from reactor import IsNan, MulAdd, RcpApprox, RsqrtApprox, Select, Sqrt
 from .base import float_value, routine
 
 
-def _keep_estimate_where_nan(residual, estimate, refined):
-    return Select(IsNan(residual), estimate, refined)
+def _keep_estimate_where_nan(estimate, refined):
+    return Select(IsNan(refined), estimate, refined)
 
 
 @routine
@@ -37,7 +39,7 @@ def rcp(x, precision: str = "full"):
     if precision == "relaxed":
         return r.named("rcp")
     e = MulAdd(-x, r, 1.0)
-    return _keep_estimate_where_nan(e, r, MulAdd(r, e, r)).named("rcp")
+    return _keep_estimate_where_nan(r, MulAdd(r, e, r)).named("rcp")
 
 
 @routine
@@ -48,7 +50,7 @@ def rsqrt(x, precision: str = "full"):
     if precision == "relaxed":
         return r.named("rsqrt")
     e = MulAdd(-(x * r), r, 1.0)
-    return _keep_estimate_where_nan(e, r, MulAdd(r * 0.5, e, r)).named("rsqrt")
+    return _keep_estimate_where_nan(r, MulAdd(r * 0.5, e, r)).named("rsqrt")
 
 
 @routine

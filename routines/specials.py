@@ -1,0 +1,208 @@
+"""The special-value contract of every routine, as data.
+
+``ROWS`` lists single inputs with their exact expected result (bit-exact,
+including the sign of zero; NaN means any NaN). ``RULES`` are exactness
+families (exp2(k) = 2^k for every integer k with a normal result, ...). Both
+hold in both precisions, with FMA on and off, at every width; the test suite
+checks them on the compiled kernels, and ``python -m routines specials``
+prints them as the tables of docs/specials.md.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+INF, NAN = float("inf"), float("nan")
+TINY = float(np.float32(1e-40))  # a subnormal
+MIN_NORMAL = 2.0 ** -126
+MAX_FLOAT = float(np.finfo(np.float32).max)
+BOTH = ("full", "relaxed")
+
+
+@dataclasses.dataclass(frozen=True)
+class Row:
+    function: str
+    args: tuple[float, ...]
+    expected: float
+    case: str
+    precisions: tuple[str, ...] = BOTH
+
+
+NOTES = {
+    "exp2": "Negative inputs closer to 0 than 2^-24 reduce to f = x - floor(x) = 1 (the "
+            "subtraction rounds up), so full precision returns 1 - 2^-24 there (1 ULP below 1, "
+            "within tolerance; the reference discusses this wrap-around) and relaxed is within its "
+            "tolerance. Results below 2^-126 are flushed to +0: exp2 is monotone and never negative.",
+    "exp": "exp(x) = exp2(x * log2(e)): thresholds follow from exp2's.",
+    "log2": "Subnormal inputs are exact in both precisions (exponent extraction normalizes them).",
+    "pow": "IEEE 754 powr semantics, from exp2(y * log2(x)) with no extra code.",
+    "rcp": "|x| > 2^126 gives the correctly rounded subnormal 1/x (RCP14 does not flush).",
+}
+
+
+def _f32(v: float) -> float:
+    return float(np.float32(v))
+
+
+def _exp_rows():
+    rows = []
+    for fn in ("exp2", "exp"):
+        rows += [
+            Row(fn, (0.0,), 1.0, "+0"), Row(fn, (-0.0,), 1.0, "-0"),
+            Row(fn, (INF,), INF, "+inf"), Row(fn, (-INF,), 0.0, "-inf (+0, never -0)"),
+            Row(fn, (NAN,), NAN, "NaN"), Row(fn, (TINY,), 1.0, "subnormal input"),
+            Row(fn, (1000.0,), INF, "far above overflow"), Row(fn, (-1000.0,), 0.0, "far below underflow"),
+        ]
+    rows += [
+        Row("exp2", (-1.0,), 0.5, "negative input"),
+        Row("exp2", (128.0,), INF, "overflow threshold: x >= 128"),
+        Row("exp2", (-126.0,), MIN_NORMAL, "smallest normal result"),
+        Row("exp2", (_f32(-126.0001),), 0.0, "below -126: flushed to +0"),
+        Row("exp2", (-149.0,), 0.0, "subnormal result 2^-149: flushed to +0"),
+        Row("exp", (89.0,), INF, "overflow: x > 88.7228 (ln FLT_MAX)"),
+        Row("exp", (-88.0,), 0.0, "below -87.3365 (ln 2^-126): flushed to +0"),
+    ]
+    return rows
+
+
+def _log_rows():
+    rows = []
+    for fn in ("log2", "log"):
+        rows += [
+            Row(fn, (0.0,), -INF, "+0"), Row(fn, (-0.0,), -INF, "-0"),
+            Row(fn, (INF,), INF, "+inf"), Row(fn, (-INF,), NAN, "-inf"),
+            Row(fn, (NAN,), NAN, "NaN"), Row(fn, (-1.0,), NAN, "negative input"),
+            Row(fn, (-TINY,), NAN, "negative subnormal"), Row(fn, (1.0,), 0.0, "log(1) = +0 exactly"),
+        ]
+    rows += [
+        Row("log2", (2.0 ** -149,), -149.0, "smallest subnormal: exact"),
+        Row("log2", (2.0 ** -130,), -130.0, "subnormal power of two: exact"),
+        Row("log2", (MAX_FLOAT,), 128.0, "largest float: rounds to 128", ("full",)),
+    ]
+    return rows
+
+
+def _pow_rows():
+    r = []
+    for x in (0.0, -0.0):
+        z = "+0" if x == 0 and np.signbit(x) == 0 else "-0"
+        r += [Row("pow", (x, 2.0), 0.0, f"{z} ^ y>0 = +0"), Row("pow", (x, -2.0), INF, f"{z} ^ y<0 = +inf"),
+              Row("pow", (x, 0.0), NAN, f"{z} ^ 0 = NaN"), Row("pow", (x, INF), 0.0, f"{z} ^ +inf = +0"),
+              Row("pow", (x, -INF), INF, f"{z} ^ -inf = +inf")]
+    r += [
+        Row("pow", (INF, 2.0), INF, "+inf ^ y>0 = +inf"), Row("pow", (INF, -2.0), 0.0, "+inf ^ y<0 = +0"),
+        Row("pow", (INF, 0.0), NAN, "+inf ^ 0 = NaN"), Row("pow", (INF, INF), INF, "+inf ^ +inf = +inf"),
+        Row("pow", (INF, -INF), 0.0, "+inf ^ -inf = +0"),
+        Row("pow", (1.0, 5.5), 1.0, "1 ^ finite = 1"), Row("pow", (1.0, INF), NAN, "1 ^ +inf = NaN"),
+        Row("pow", (1.0, -INF), NAN, "1 ^ -inf = NaN"), Row("pow", (1.0, NAN), NAN, "1 ^ NaN = NaN (powr)"),
+        Row("pow", (3.0, 0.0), 1.0, "x ^ +0 = 1"), Row("pow", (3.0, -0.0), 1.0, "x ^ -0 = 1"),
+        Row("pow", (NAN, 0.0), NAN, "NaN ^ 0 = NaN (powr)"), Row("pow", (NAN, 1.0), NAN, "NaN ^ y"),
+        Row("pow", (2.0, NAN), NAN, "x ^ NaN"),
+        Row("pow", (-2.0, 2.0), NAN, "x < 0: NaN"), Row("pow", (-INF, 2.0), NAN, "-inf ^ y: NaN"),
+        Row("pow", (0.5, INF), 0.0, "x in (0,1) ^ +inf = +0"), Row("pow", (0.5, -INF), INF, "x in (0,1) ^ -inf = +inf"),
+        Row("pow", (2.0, INF), INF, "x > 1 ^ +inf = +inf"), Row("pow", (2.0, -INF), 0.0, "x > 1 ^ -inf = +0"),
+        Row("pow", (2.0, 10.0), 1024.0, "2 ^ integer: exact"), Row("pow", (2.0, 200.0), INF, "overflow"),
+        Row("pow", (2.0, -200.0), 0.0, "underflow: +0"),
+    ]
+    return r
+
+
+def _recip_rows():
+    r = []
+    r += [Row("rcp", (0.0,), INF, "+0"), Row("rcp", (-0.0,), -INF, "-0"), Row("rcp", (INF,), 0.0, "+inf"),
+          Row("rcp", (-INF,), -0.0, "-inf"), Row("rcp", (NAN,), NAN, "NaN"), Row("rcp", (-4.0,), -0.25, "negative"),
+          Row("rcp", (TINY,), INF, "subnormal: 1/x overflows"), Row("rcp", (1.0,), 1.0, "1")]
+    r += [Row("rsqrt", (0.0,), INF, "+0"), Row("rsqrt", (-0.0,), -INF, "-0"), Row("rsqrt", (INF,), 0.0, "+inf"),
+          Row("rsqrt", (-INF,), NAN, "-inf"), Row("rsqrt", (NAN,), NAN, "NaN"), Row("rsqrt", (-4.0,), NAN, "negative"),
+          Row("rsqrt", (1.0,), 1.0, "1"), Row("rsqrt", (4.0,), 0.5, "4")]
+    r += [Row("sqrt", (0.0,), 0.0, "+0"), Row("sqrt", (-0.0,), -0.0, "-0"), Row("sqrt", (INF,), INF, "+inf"),
+          Row("sqrt", (-INF,), NAN, "-inf"), Row("sqrt", (NAN,), NAN, "NaN"), Row("sqrt", (-4.0,), NAN, "negative"),
+          Row("sqrt", (4.0,), 2.0, "4"), Row("sqrt", (1.0,), 1.0, "1"),
+          Row("sqrt", (2.0 ** -148,), 2.0 ** -74, "subnormal input: exact", ("full",))]
+    return r
+
+
+ROWS: tuple[Row, ...] = tuple(_exp_rows() + _log_rows() + _pow_rows() + _recip_rows())
+
+
+@dataclasses.dataclass(frozen=True)
+class Rule:
+    """An exactness family: ``inputs()`` -> (args..., expected) arrays."""
+
+    function: str
+    text: str
+    inputs: object
+    precisions: tuple[str, ...] = BOTH
+
+
+def _exp2_integers():
+    k = np.arange(-126, 128, dtype=np.float32)
+    return (k,), np.exp2(k.astype(np.float64)).astype(np.float32)
+
+
+def _log2_powers():
+    k = np.arange(-149, 128)
+    x = np.ldexp(np.float64(1.0), k).astype(np.float32)
+    return (x,), k.astype(np.float32)
+
+
+def _pow_two_integers():
+    y = np.arange(-126, 128, dtype=np.float32)
+    return (np.full_like(y, 2.0), y), np.exp2(y.astype(np.float64)).astype(np.float32)
+
+
+def _rcp_powers():
+    k = np.arange(-126, 127)
+    x = np.ldexp(np.float64(1.0), k).astype(np.float32)
+    return (x,), np.ldexp(np.float64(1.0), -k).astype(np.float32)
+
+
+def _rsqrt_powers():
+    k = np.arange(-63, 64)
+    x = np.ldexp(np.float64(1.0), 2 * k).astype(np.float32)
+    return (x,), np.ldexp(np.float64(1.0), -k).astype(np.float32)
+
+
+RULES: tuple[Rule, ...] = (
+    Rule("exp2", "exp2(k) = 2^k exactly for every integer k in [-126, 127]", _exp2_integers),
+    Rule("log2", "log2(2^k) = k exactly for every k in [-149, 127] (subnormals included)", _log2_powers),
+    Rule("pow", "pow(2, k) = 2^k exactly for every integer k in [-126, 127]", _pow_two_integers),
+    Rule("rcp", "rcp(2^k) = 2^-k exactly for k in [-126, 126]", _rcp_powers),
+    Rule("rsqrt", "rsqrt(4^k) = 2^-k exactly for k in [-63, 63]", _rsqrt_powers),
+)
+
+
+def same(got: np.ndarray, expected: np.ndarray) -> np.ndarray:
+    """Bit-exact equality, except that any NaN matches any NaN."""
+    got, expected = np.asarray(got, np.float32), np.asarray(expected, np.float32)
+    both_nan = np.isnan(got) & np.isnan(expected)
+    return both_nan | (got.view(np.uint32) == expected.view(np.uint32))
+
+
+def _fmt(v: float) -> str:
+    if np.isnan(v):
+        return "NaN"
+    if np.isinf(v):
+        return "+inf" if v > 0 else "-inf"
+    if v == 0:
+        return "-0" if np.signbit(v) else "+0"
+    return np.format_float_positional(np.float32(v), unique=True, trim="-") if 1e-4 < abs(v) < 1e7 \
+        else np.format_float_scientific(np.float32(v), unique=True)
+
+
+def markdown() -> str:
+    """The tables of docs/specials.md, one per function."""
+    out = []
+    for fn in ("exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt"):
+        out.append(f"### {fn}\n")
+        out.append("| input | result | case | precisions |\n|---|---|---|---|")
+        for row in (r for r in ROWS if r.function == fn):
+            args = ", ".join(_fmt(a) for a in row.args)
+            out.append(f"| {fn}({args}) | {_fmt(row.expected)} | {row.case} | {', '.join(row.precisions)} |")
+        for rule in (r for r in RULES if r.function == fn):
+            out.append(f"\nExactness: {rule.text} ({', '.join(rule.precisions)}).")
+        if fn in NOTES:
+            out.append(f"\n{NOTES[fn]}")
+        out.append("")
+    return "\n".join(out)
