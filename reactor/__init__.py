@@ -4,6 +4,7 @@ Layers (one package each): ``dsl`` (types, values, control flow, functions)
 -> ``ir`` (the IR emitter and the operation table) -> ``jit`` (targets, LLVM
 optimization, caches) -> ``kernels`` (compiled code as NumPy ufuncs).
 """
+from .dsl.external import External
 from .dsl.control import Elif, Else, For, If, Return, While
 from .dsl.function import Function, Library, Module, Routine, function
 from .dsl.intrinsics import (

@@ -23,7 +23,8 @@ import threading
 import numpy as np
 from llvmlite import ir
 
-from ..errors import ArgumentError, ArityError, DSLTypeError, MissingReturnError, ReactorError
+from ..errors import (ArgumentError, ArityError, DSLTypeError, MissingReturnError, ReactorError,
+                      at_return_of)
 from ..ir import emitter as _em
 from ..options import BuildOptions, current_options
 from .signature import Signature
@@ -84,7 +85,8 @@ class Function:
             result = self.body(*args)
             if result is not None and not em.terminated():
                 from .control import Return
-                Return(result)
+                with at_return_of(self.body):
+                    Return(result)
             for block in em.finish():
                 if returns is not None:
                     raise MissingReturnError(
@@ -184,7 +186,7 @@ class Module:
         from ..jit.target import get_target
         mod, opts = self.build(**options)
         code = CompiledCode(str(mod.module), get_target(opts.target), opts.opt,
-                            tuple(f.name + ENTRY_SUFFIX for f in self.functions), opts.cache)
+                            tuple(f.name + ENTRY_SUFFIX for f in self.functions), opts.cache, mod.imports)
         return Library(code, {f.name: Routine(f, code, opts) for f in self.functions})
 
 

@@ -66,6 +66,7 @@ class ModuleEmitter:
         self.module.triple = target.triple
         self.module.data_layout = str(target.machine.target_data)
         self.functions: dict[object, ir.Function] = {}
+        self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
 
     def unique_name(self, base: str) -> str:
         names = {g.name for g in self.module.global_values}

@@ -46,7 +46,7 @@ class Kernel:
         loop_name = f"{name}.loop"
         LoopEmitter(module, loop_name, body, ins, outs, options.width).emit()
         self.code = CompiledCode(str(module.module), get_target(options.target), options.opt,
-                                 (loop_name,), options.cache)
+                                 (loop_name,), options.cache, module.imports)
         doc = (body.__doc__ or f"reactor kernel {name}").strip()
         self.ufunc = None  # set by build_kernel; the ufunc owns this object
         self._loop = self.code.address(loop_name)
