@@ -7,6 +7,7 @@ than at library internals.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 
@@ -25,6 +26,47 @@ def user_location() -> tuple[str, int] | None:
             return frame.f_code.co_filename, frame.f_lineno
         frame = frame.f_back
     return None
+
+
+def return_location(body) -> tuple[str, int] | None:
+    """Where the DSL body ``body`` returns its value: the line of its only
+    ``return <value>`` statement, else its ``def`` line. Used for errors found in
+    a returned value after the body's frame is gone."""
+    import ast
+    import inspect
+    import textwrap
+
+    code = getattr(body, "__code__", None)
+    if code is None:
+        return None
+    where = (code.co_filename, code.co_firstlineno)
+    try:
+        lines, start = inspect.getsourcelines(body)
+        fn = ast.parse(textwrap.dedent("".join(lines))).body[0]
+    except (OSError, TypeError, SyntaxError, IndexError):
+        return where
+    found = []
+
+    def visit(node):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+                continue  # returns of nested functions are not the body's
+            if isinstance(child, ast.Return) and child.value is not None:
+                found.append(child.lineno)
+            visit(child)
+
+    if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+        visit(fn)
+    return (code.co_filename, start + found[0] - 1) if len(found) == 1 else where
+
+
+@contextlib.contextmanager
+def at_return_of(body):
+    """Report errors raised in the block at ``body``'s return statement."""
+    try:
+        yield
+    except ReactorError as exc:
+        raise type(exc)(exc.problem, location=return_location(body)) from None
 
 
 class ReactorError(Exception):

@@ -114,6 +114,7 @@ class Elif(If):
         then_block, else_block = em.new_block("elif.then"), em.new_block("elif.else")
         em.cbranch(cond, then_block, else_block)
         self._enter_branch(em, then_block, else_block, merge)
+        self._scope.chain = merge
 
 
 class Else(_Block):
@@ -126,6 +127,7 @@ class Else(_Block):
         em.reopen(else_block)
         self._merge = merge
         self._open(em)
+        self._scope.chain = merge
 
     def __exit__(self, exc_type, *rest):
         if exc_type is not None:
@@ -203,6 +205,7 @@ class For(_Block):
         op = "<" if self._step > 0 else ">"
         cmp = em.emit("icmp_signed" if signed else "icmp_unsigned", op, self._counter.ir, stop, name="for.test")
         em.cbranch(cmp, body, self._exit)
+        self._stop_ir, self._signed = stop, signed
         em.goto(body)
         self._open(em)
         # The counter lives in the loop's scope, so using it after the loop is an error.
@@ -215,7 +218,18 @@ class For(_Block):
         em = self._em
         em.branch_to(self._latch)
         em.goto(self._latch)
-        self._counter.set((self._counter.value + self._step).named("i.next"))
+        nxt = (self._counter.value + self._step).named("i.next")
+        if abs(self._step) > 1:
+            # i + step may wrap around past stop (e.g. UInt 9, 7, ..., 1 -> 2**32 - 1):
+            # step only while it stays short of stop, else go to stop and leave.
+            i, stop, step = self._counter.ir, self._stop_ir, abs(self._step)
+            ahead = em.emit("icmp_signed" if self._signed else "icmp_unsigned", "<" if self._step > 0 else ">",
+                            i, stop, name="for.ahead")
+            room = em.emit("sub", *((stop, i) if self._step > 0 else (i, stop)), name="for.room")
+            fits = em.emit("icmp_unsigned", ">", room, ir.Constant(room.type, step), name="for.fits")
+            nxt = type(nxt)._wrap(em.emit("select", em.emit("and_", ahead, fits, name="for.more"), nxt.ir,
+                                          stop, name="i.next"), em)
+        self._counter.set(nxt)
         self._close()
         em.branch_to(self._head)
         em.goto(self._exit)

@@ -163,14 +163,15 @@ def _lane_index(v: Value, i):
     if isinstance(i, Value):
         if not i.kind.is_integer or i.width != 1:
             raise DSLTypeError(f"lane index must be a scalar Int, not {i.vtype.name}")
-        return i.ir
+        # taken modulo the width: an out-of-range index would make LLVM poison
+        return _em.current().emit("and_", i.ir, ir.Constant(ir.IntType(32), v.width - 1), name="lane_i")
     if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < v.width:
         raise DSLTypeError(f"lane index {i!r} out of range for {v.vtype.name}")
     return ir.Constant(ir.IntType(32), i)
 
 
 def Extract(v: Value, i):
-    """Lane ``i`` of vector ``v`` as a scalar (``i`` an int or a scalar Int)."""
+    """Lane ``i`` of vector ``v`` as a scalar (``i`` an int, or a scalar Int taken modulo the width)."""
     if not isinstance(v, Value) or v.width == 1:
         raise DSLTypeError(f"Extract needs a vector value, not {v!r}")
     em = _em.current()

@@ -93,7 +93,12 @@ class Signature:
     def from_function(cls, body, args=None, returns=inspect.Parameter.empty) -> "Signature":
         sig = inspect.signature(body)
         names = tuple(sig.parameters)
-        hints = inspect.get_annotations(body, eval_str=True)
+        try:
+            hints = inspect.get_annotations(body, eval_str=True)
+        except NameError as exc:  # e.g. a local type under `from __future__ import annotations`
+            raise DSLTypeError(f"'{body.__name__}': cannot evaluate its type annotations ({exc}); "
+                               f"string annotations can only name module-level types, so give "
+                               f"args=[...]/returns=... explicitly") from None
         if args is None:
             missing = [n for n in names if n not in hints]
             if missing:

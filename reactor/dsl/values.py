@@ -72,6 +72,12 @@ class Value:
                 f"a {self.vtype.name} value defined inside a '{self._scope.what}' block is used "
                 f"after that block ended; declare a Variable before the block and assign it inside"
             )
+        if not em.in_chain(self._ir):
+            raise ScopeError(
+                f"a {self.vtype.name} value computed between the blocks of an If/Elif chain belongs "
+                f"to the next Elif's condition and is only valid in that chain's Elif/Else blocks; "
+                f"compute it before the If (or keep it in a Variable)"
+            )
         return self._ir
 
     @property
@@ -157,7 +163,8 @@ def to_ir(x, vt: VType, *, convert: bool = False) -> ir.Value:
     if xt.width == vt.width:
         return val
     if xt.width == 1:
-        return ops.splat(_em.current(), vt.width, val)
+        named = getattr(val, "name", "") and not isinstance(val, ir.Constant)
+        return ops.splat(_em.current(), vt.width, val, name=f"{val.name}.splat" if named else "splat")
     raise WidthMismatchError(f"a {xt.name} cannot become a {vt.name}: widths {xt.width} and {vt.width}")
 
 

@@ -28,10 +28,17 @@ class _VariableMixin:
 
     __slots__ = ()
 
+    def _slot(self):
+        slot = Value.ir.fget(self)  # checks function and scope
+        if not _em.current().in_chain(self._init):
+            raise ScopeError(f"Variable '{self._name}' was created between the blocks of an If/Elif "
+                             f"chain, so only the path that evaluates the next Elif's condition "
+                             f"initializes it; create it before the If")
+        return slot
+
     @property
     def ir(self) -> ir.Value:
-        slot = Value.ir.fget(self)  # checks function and scope
-        return _em.current().emit("load", slot, name=self._name)
+        return _em.current().emit("load", self._slot(), name=self._name)
 
     @property
     def value(self) -> Value:
@@ -40,8 +47,7 @@ class _VariableMixin:
 
     def set(self, value) -> "Variable":
         """Store ``value`` (converted only if it is a Python constant or a broadcast scalar)."""
-        slot = Value.ir.fget(self)
-        _em.current().emit("store", to_ir(value, self.vtype), slot)
+        _em.current().emit("store", to_ir(value, self.vtype), self._slot())
         return self
 
     def named(self, name):
@@ -65,7 +71,7 @@ for _op, _dunder in {"add": "__iadd__", "sub": "__isub__", "mul": "__imul__",
 @functools.cache
 def _variable_class(vtype: VType):
     return type(f"Variable[{vtype.name}]", (_VariableMixin, value_class(vtype)),
-                {"__slots__": ("_name",), "__module__": "reactor"})
+                {"__slots__": ("_name", "_init"), "__module__": "reactor"})
 
 
 def Variable(type_or_value, init=None, name: str = "var"):
@@ -83,9 +89,9 @@ def Variable(type_or_value, init=None, name: str = "var"):
     em = _em.current()
     init_ir = to_ir(0 if init is None and not vtype.kind.category == "bool" else (False if init is None else init), vtype)
     slot = em.alloca(vtype.ir, name=name)
-    em.emit("store", init_ir, slot)
+    init_store = em.emit("store", init_ir, slot)
     var = _variable_class(vtype)._wrap(slot, em)
-    var._name = name
+    var._name, var._init = name, init_store
     return var
 
 

@@ -46,10 +46,11 @@ def building() -> bool:
 class Scope:
     """A lexical region (function body, branch, loop body) whose values die at its end."""
 
-    __slots__ = ("parent", "what", "closed")
+    __slots__ = ("parent", "what", "closed", "chain")
 
     def __init__(self, parent: "Scope | None", what: str):
         self.parent, self.what, self.closed = parent, what, False
+        self.chain = None  # for Elif/Else bodies: the merge block of their If chain
 
 
 class ModuleEmitter:
@@ -188,6 +189,7 @@ class FunctionEmitter:
         at = len(else_block.instructions) - (1 if else_block.is_terminated else 0)
         for instr in moved:
             instr.parent = else_block
+            instr.reactor_chain = merge  # now only valid inside this chain (see in_chain)
         else_block.instructions[at:at] = moved
 
     def reopen(self, block: ir.Block) -> None:
@@ -198,6 +200,17 @@ class FunctionEmitter:
         self._b.position_at_end(block)
 
     # -- scopes -----------------------------------------------------------
+    def in_chain(self, value) -> bool:
+        """Whether ``value``, if claim_since_chain moved it into an If chain's else
+        block, may be used here: in that block or in a body of the same chain."""
+        merge = getattr(value, "reactor_chain", None)
+        if merge is None or value.parent is self._b.block:
+            return True
+        scope = self.scope
+        while scope is not None and scope.chain is not merge:
+            scope = scope.parent
+        return scope is not None
+
     def push_scope(self, what: str) -> Scope:
         self.scope = Scope(self.scope, what)
         return self.scope

@@ -6,7 +6,8 @@ is NumPy's ufunc loop signature. For ``n = dims[0]`` elements it runs:
 * a width-W vector loop when every output is contiguous and every input is
   contiguous or (for one input at a time) a broadcast scalar (stride 0), as in
   ``pow(x, 2.2)``; the last ``n % W`` elements go through the same body with
-  masked loads and stores;
+  masked loads and stores. Not when an output starts inside an input, ahead
+  of it (``ufunc.accumulate`` passes ``out[i-1]`` as input ``i``);
 * otherwise a scalar loop that follows arbitrary (negative, zero, unaligned
   multiple) strides.
 
@@ -23,7 +24,7 @@ from llvmlite import ir
 
 from ..dsl.types import VType
 from ..dsl.values import to_ir, value_class
-from ..errors import DSLTypeError
+from ..errors import DSLTypeError, at_return_of
 from ..ir import emitter as _em
 from ..ir import ops
 
@@ -58,7 +59,13 @@ class LoopEmitter:
                 self.steps.append(em.emit("load", em.emit("gep", steps, [_c64(k)], name=f"stepp{k}"), name=f"step{k}"))
             flags = self._save_fp_flags()
             end = em.new_block("done")
-            for pattern in (self._patterns() if self.width > 1 else ()):
+            patterns = self._patterns() if self.width > 1 else ()
+            strided = em.new_block("strided")
+            if patterns:
+                layouts = em.new_block("layouts")
+                em.cbranch(self._operands_apart(), layouts, strided)
+                em.goto(layouts)
+            for pattern in patterns:
                 cond = self._pattern_test(pattern)
                 vec, nxt = em.new_block("vector"), em.new_block("next")
                 em.cbranch(cond, vec, nxt)
@@ -66,6 +73,8 @@ class LoopEmitter:
                 self._vector_loop(pattern)
                 em.branch_to(end)
                 em.goto(nxt)
+            em.branch_to(strided)
+            em.goto(strided)
             self._strided_loop()
             em.branch_to(end)
             em.goto(end)
@@ -107,6 +116,21 @@ class LoopEmitter:
             ok = em.emit("icmp_signed", "==", self.steps[k], _c64(want), name=f"{layout}{k}")
             cond = em.emit("and_", cond, ok, name="layout_ok")
         return cond
+
+    def _operands_apart(self):
+        """No output starts inside the n elements of an input, ahead of the input's
+        start, where the vector loop would read inputs before the strided loop's
+        element-by-element order has written them: ufunc.accumulate passes out[i-1]
+        as input i. (For ordinary calls NumPy copies overlapping operands.)"""
+        em = self.em
+        addr = [em.emit("ptrtoint", p, I64, name=f"addr{k}") for k, p in enumerate(self.ptrs)]
+        ok = ir.Constant(ir.IntType(1), 1)
+        for a, kind in enumerate(self.ins):
+            last = em.emit("sub", em.emit("mul", self.n, _c64(kind.mem_bytes), name="bytes"), _c64(1), name="last")
+            for b in range(len(self.ins), len(self.ptrs)):
+                ahead = em.emit("sub", em.emit("sub", addr[b], addr[a], name="gap"), _c64(1), name="ahead")
+                ok = em.emit("and_", ok, em.emit("icmp_unsigned", ">=", ahead, last, name="apart"), name="apart_ok")
+        return ok
 
     # -- vector path --------------------------------------------------------------
     def _vector_loop(self, pattern):
@@ -215,10 +239,11 @@ class LoopEmitter:
             em.width = self.width
         if not isinstance(result, tuple):
             result = (result,)
-        if len(result) != len(self.outs):
-            raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
-                               f"{len(self.outs)} output(s)")
-        irs = [to_ir(r, VType(kind, width)) for r, kind in zip(result, self.outs)]
+        with at_return_of(self.body):
+            if len(result) != len(self.outs):
+                raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
+                                   f"{len(self.outs)} output(s)")
+            irs = [to_ir(r, VType(kind, width)) for r, kind in zip(result, self.outs)]
         em.pop_scope(scope)
         return irs
 

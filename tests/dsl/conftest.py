@@ -1,0 +1,40 @@
+"""Shared fixtures for the DSL / JIT / kernel tests (helpers: dsl_helpers.py).
+
+Every test session gets its own on-disk object cache (``REACTOR_CACHE_DIR``
+in a temporary directory), so the suite neither reads nor pollutes the
+user's ``~/.cache/reactor``.
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _private_disk_cache(tmp_path_factory):
+    """A session-wide private disk cache directory."""
+    saved = {k: os.environ.get(k) for k in ("REACTOR_CACHE_DIR", "REACTOR_CACHE")}
+    os.environ["REACTOR_CACHE_DIR"] = str(tmp_path_factory.mktemp("reactor-cache"))
+    os.environ.pop("REACTOR_CACHE", None)
+    yield
+    for k, v in saved.items():
+        if v is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = v
+
+
+@pytest.fixture
+def cache_dir(tmp_path, monkeypatch):
+    """A fresh, empty disk cache directory for one test."""
+    d = tmp_path / "cache"
+    monkeypatch.setenv("REACTOR_CACHE_DIR", str(d))
+    monkeypatch.delenv("REACTOR_CACHE", raising=False)
+    return d
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(20240611)

@@ -1,0 +1,33 @@
+define float @"axpy"(float %"a", float %"x", float %"y") nounwind
+{
+entry:
+  br label %"body"
+body:
+  %"fma" = call float @"llvm.fma.f32"(float %"a", float %"x", float %"y")
+  ret float %"fma"
+}
+
+declare float @"llvm.fma.f32"(float %".1", float %".2", float %".3")
+
+define void @"axpy.entry"(i8** %"argv", i8* %"ret") nounwind
+{
+entry:
+  br label %"body"
+body:
+  %"a.argv" = getelementptr i8*, i8** %"argv", i64 0
+  %"a.arg" = load i8*, i8** %"a.argv"
+  %"a.slot" = bitcast i8* %"a.arg" to float*
+  %"a" = load float, float* %"a.slot", align 4
+  %"x.argv" = getelementptr i8*, i8** %"argv", i64 1
+  %"x.arg" = load i8*, i8** %"x.argv"
+  %"x.slot" = bitcast i8* %"x.arg" to float*
+  %"x" = load float, float* %"x.slot", align 4
+  %"y.argv" = getelementptr i8*, i8** %"argv", i64 2
+  %"y.arg" = load i8*, i8** %"y.argv"
+  %"y.slot" = bitcast i8* %"y.arg" to float*
+  %"y" = load float, float* %"y.slot", align 4
+  %"result" = call float @"axpy"(float %"a", float %"x", float %"y")
+  %"retslot" = bitcast i8* %"ret" to float*
+  store float %"result", float* %"retslot", align 4
+  ret void
+}

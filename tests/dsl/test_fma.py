@@ -1,0 +1,90 @@
+"""The FMA toggle, checked in the machine code: fma=True emits llvm.fma and FMA
+instructions; fma=False leaves no fused instruction anywhere."""
+import re
+
+import numpy as np
+import pytest
+
+import reactor
+from reactor import (
+    Float, FmaDisabledError, For, Function, MulAdd, Pointer, Variable, kernel, kernel_of, vector_type,
+)
+from reactor.jit.target import get_target
+
+FUSED = re.compile(r"\bvf(?:n)?m(?:add|sub)\w*", re.I)
+HOST_FMA = get_target("host").has_fma  # without it, llvm.fma becomes a call to fmaf
+
+
+def _muladd(a: Float, b: Float, c: Float) -> Float:
+    return MulAdd(a, b, c) - MulAdd(a, c, 1.0)
+
+
+@pytest.mark.parametrize("width", [1, 4, 8, 16])
+@pytest.mark.parametrize("fma", [True, False])
+def test_kernel_fma_toggle(width, fma):
+    u = kernel(_muladd, width=width, fma=fma, name=f"muladd_{width}_{fma}")
+    kern = kernel_of(u)
+    asm = kern.assembly
+    assert ("llvm.fma" in kern.ir) is fma
+    assert bool(FUSED.search(asm)) is (fma and HOST_FMA), FUSED.findall(asm)[:5]
+    x = np.linspace(-2, 2, 37).astype(np.float32)
+    got = u(x, x[::-1].copy(), np.float32(0.5))
+    if not fma:
+        with np.errstate(all="ignore"):
+            want = (x * x[::-1] + np.float32(0.5)) - (x * np.float32(0.5) + np.float32(1))
+        np.testing.assert_array_equal(got, want)
+
+
+def _polynomial(width):
+    T = vector_type("Float", width)
+
+    def horner(p: Pointer[T, "n"], n: reactor.Int, out: Pointer[T, "n"]):
+        with For(0, n) as i:
+            x = p[i]
+            acc = Variable(T, 0.5)
+            for c in (1.0, -0.5, 0.25, -0.125, 0.0625, 3.0):   # unrolled at build time
+                acc.set(MulAdd(acc, x, c))
+            out[i] = acc * x + 1.0    # plain operators are never contracted
+
+    return horner
+
+
+@pytest.mark.parametrize("width", [4, 16])
+@pytest.mark.parametrize("fma", [True, False])
+def test_routine_fma_toggle(width, fma):
+    f = Function(_polynomial(width), fma=fma, name=f"horner{width}{fma}")
+    r = f.compile()
+    fused = FUSED.findall(r.assembly)
+    assert (len(fused) >= 6) if fma and HOST_FMA else (not fused), fused
+    assert r.ir.count("llvm.fma") >= (7 if fma else 0) and ("fmul" in r.ir) is True
+    x = np.linspace(-1, 1, 4 * width).astype(np.float32)
+    out = np.zeros_like(x)
+    f(x, 4, out)
+    acc = np.full_like(x, 0.5)
+    for c in (1.0, -0.5, 0.25, -0.125, 0.0625, 3.0):
+        acc = acc * x + np.float32(c)
+    np.testing.assert_allclose(out, acc * x + 1, rtol=1e-6)
+
+
+def test_fma_follows_forced_targets():
+    for target, fused in (("avx2", True), ("avx512", True)):
+        r = Function(_polynomial(8), target=target, fma=True, name=f"h_{target}").compile()
+        assert bool(FUSED.search(r.assembly)) is fused
+        r = Function(_polynomial(8), target=target, fma=False, name=f"h_{target}_nofma").compile()
+        assert not FUSED.search(r.assembly)
+    # fma=None means "what the target has": avx2 (haswell) has FMA, sse4 (nehalem) does not
+    assert Function(_polynomial(4), target="avx2").compile().options.fma is True
+    r = Function(_polynomial(4), target="sse4").compile()
+    assert r.options.fma is False and not FUSED.search(r.assembly) and "ymm" not in r.assembly
+
+
+def test_fma_in_fma_off_build_is_an_error():
+    def body(x: Float) -> Float:
+        return reactor.Fma(x, x, x)
+
+    with pytest.raises(FmaDisabledError):
+        kernel(body, fma=False)
+    with reactor.options(fma=False):
+        with pytest.raises(FmaDisabledError):
+            Function(body).compile()
+    assert Function(body, fma=True)(2.0) == 6.0
