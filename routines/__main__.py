@@ -2,7 +2,9 @@
 
 Commands: remez (fit a minimax polynomial), specials (print the special-value
 tables of docs/specials.md), accuracy (measure a variant's error on the
-compiled code), bench (time every variant against NumPy).
+compiled code), bench (time every variant against NumPy), zoo (the reference's
+methods, its figures beside ours), chart (the cost/error chart), report (the
+main job: every variant's accuracy and speed, the table, chart and JSON).
 """
 from __future__ import annotations
 
@@ -13,6 +15,9 @@ COMMANDS = {
     "specials": "routines.cli.specials",
     "accuracy": "routines.cli.accuracy",
     "bench": "routines.cli.bench",
+    "zoo": "routines.cli.zoo",
+    "chart": "routines.cli.chart",
+    "report": "routines.cli.report",
 }
 
 

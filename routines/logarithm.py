@@ -8,7 +8,10 @@ Algorithm (reference write-up, "Second Try"), for float32 x = 2^e * (1 + m):
 
 so the polynomial only supplies the small correction log2(1+m) - m in
 [0, 0.086], and log2(2^k) = k exactly (m = 0). Full precision uses the
-degree-7 P, relaxed the degree-2 one.
+degree-7 P. Relaxed precision writes the correction as m * (1 - m) * Q(m)
+with a linear Q (three FMAs, like the reference's degree-2 P): it vanishes at
+m = 1 too, so log2 has the right sign just below every power of two, and
+pow(x < 1, -inf) = +inf holds in relaxed precision as well.
 
 Exponent extraction: ``Exponent``/``Significand`` (AVX-512 VGETEXPPS and
 VGETMANTPS; an exact integer-bit emulation on other targets). They give the
@@ -34,8 +37,9 @@ def log2(x, precision: str = "full"):
     x = float_value(x, "log2")
     m = Significand(x) - 1.0
     y = Exponent(x) + m
-    poly = LOG2_FULL if precision == "full" else LOG2_RELAXED
-    return MulAdd(poly(m), m, y).named("log2")
+    if precision == "full":
+        return MulAdd(LOG2_FULL(m), m, y).named("log2")
+    return MulAdd(LOG2_RELAXED(m), MulAdd(-m, m, m), y).named("log2")  # y + Q(m) * m(1-m)
 
 
 @routine

@@ -1,0 +1,1 @@
+"""Performance tools: the dataflow cost model, clock calibration, peers, timing, the chart."""

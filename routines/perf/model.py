@@ -1,0 +1,186 @@
+"""A dataflow cost model of a kernel's vector loop (shared/refs/003, "dataflow graphs").
+
+The loop body of a kernel (block ``vec.body`` of its optimized IR) is a
+dataflow graph: each instruction a node, each operand an edge. Iterations are
+independent, so an out-of-order core overlaps them and the steady state is
+bounded by *throughput*: for every class of operation, the number of such
+operations per vector divided by how many the machine can start per cycle;
+and by the issue width over all operations. The *critical path* (the longest
+latency chain through one iteration) tells how many iterations must be in
+flight to reach that bound.
+
+The machine is described by a small table (``ZEN4``; numbers from AMD's Zen 4
+optimization guide and uops.info, rounded): each operation class has a latency
+in cycles and a throughput in 256-bit operations per cycle. Zen 4 executes a
+512-bit operation as two 256-bit halves, so a zmm operation costs two slots;
+xmm and scalar operations cost one. The FP/vector issue width is 4 slots per
+cycle (four 256-bit FP pipes), loads 2 and stores 1 per cycle (256-bit).
+"""
+from __future__ import annotations
+
+import collections
+import ctypes
+import dataclasses
+import re
+
+import llvmlite.binding as llvm
+
+
+@dataclasses.dataclass(frozen=True)
+class OpClass:
+    latency: float
+    per_cycle: float  # 256-bit operations started per cycle (all pipes of the class)
+    what: str
+
+
+ZEN4 = {
+    "fma": OpClass(4, 2, "fused multiply-add (FP0/FP1)"),
+    "fmul": OpClass(3, 2, "multiply (FP0/FP1)"),
+    "fadd": OpClass(3, 2, "add/subtract (FP2/FP3)"),
+    "fminmax": OpClass(2, 2, "compare-select min/max"),
+    "fcmp": OpClass(3, 2, "compare into a mask"),
+    "blend": OpClass(1, 4, "select/blend, masked move"),
+    "convert": OpClass(4, 2, "float<->int conversion"),
+    "round": OpClass(3, 2, "floor/ceil/round, VREDUCEPS, VGETEXPPS, VGETMANTPS"),
+    "estimate": OpClass(5, 1, "RCP14/RSQRT14 estimates"),
+    "sqrt": OpClass(15, 0.2, "square root (not pipelined)"),
+    "divide": OpClass(11, 0.2, "division (not pipelined)"),
+    "int": OpClass(1, 4, "integer vector ALU"),
+    "shuffle": OpClass(1, 2, "broadcast/shuffle"),
+    "call": OpClass(20, 0.1, "external call (opaque)"),
+    "load": OpClass(7, 2, "vector load (L1 hit)"),
+    "store": OpClass(1, 1, "vector store"),
+}
+ISSUE_WIDTH = 4  # 256-bit FP/vector slots per cycle
+_FREE = {"bitcast", "freeze", "phi", "getelementptr", "br", "icmp", "shl"}
+
+_INTRINSIC_CLASSES = [
+    (r"llvm\.fma\.", "fma"), (r"llvm\.fmuladd", "fma"), (r"llvm\.(minnum|maxnum|smin|smax|umin|umax)", "fminmax"),
+    (r"llvm\.(floor|ceil|trunc|roundeven|rint)", "round"),
+    (r"x86\.avx512\.mask\.(reduce|getexp|getmant|rndscale)", "round"),
+    (r"(rcp|rsqrt)", "estimate"), (r"llvm\.sqrt", "sqrt"), (r"llvm\.fabs|llvm\.copysign", "int"),
+    (r"llvm\.fpto[su]i\.sat", "convert"), (r"llvm\.masked\.load", "load"), (r"llvm\.masked\.store", "store"),
+    (r"llvm\.x86\.sse\.(st|ld)mxcsr", None), (r"llvm\.vector\.reduce", "shuffle"),
+]
+_OPCODE_CLASSES = {
+    "fadd": "fadd", "fsub": "fadd", "fneg": "int", "fmul": "fmul", "fdiv": "divide",
+    "fcmp": "fcmp", "select": "blend", "fptosi": "convert", "fptoui": "convert", "sitofp": "convert",
+    "uitofp": "convert", "add": "int", "sub": "int", "and": "int", "or": "int", "xor": "int",
+    "lshr": "int", "ashr": "int", "mul": "int", "insertelement": "shuffle",
+    "extractelement": "shuffle", "shufflevector": "shuffle", "load": "load", "store": "store",
+    "zext": "int", "sext": "int", "trunc": "int",
+}
+
+
+def _vector_bits(type_text: str) -> int:
+    m = re.match(r"<(\d+) x (float|i32|i1|i8|double|i64)>", type_text)
+    if not m:
+        return 32
+    bits = {"float": 32, "i32": 32, "i1": 1, "i8": 8, "double": 64, "i64": 64}[m.group(2)]
+    return int(m.group(1)) * bits
+
+
+def classify(instr) -> str | None:
+    """The operation class of an instruction (None: free or loop bookkeeping)."""
+    op = instr.opcode
+    if op == "call":
+        callee = list(instr.operands)[-1].name
+        for pattern, cls in _INTRINSIC_CLASSES:
+            if re.search(pattern, callee):
+                return cls
+        return "call"
+    if op in _FREE:
+        return None
+    if op in ("add", "and", "or", "xor") and str(instr.type) == "i64":
+        return None  # induction variable
+    return _OPCODE_CLASSES.get(op, "int")
+
+
+def _slots(instr) -> int:
+    """256-bit slots an instruction occupies (2 for a 512-bit zmm operation)."""
+    type_text = str(instr.type)
+    if instr.opcode == "store":
+        type_text = str(list(instr.operands)[0].type)
+    if instr.opcode == "fcmp":
+        type_text = str(list(instr.operands)[0].type)
+    return 2 if _vector_bits(type_text) > 256 else 1
+
+
+@dataclasses.dataclass
+class Prediction:
+    """What the model says about one vector iteration of a kernel's loop."""
+
+    width: int
+    counts: dict[str, int]
+    slots: dict[str, int]
+    critical_path: float
+    throughput_bound: float  # cycles per vector
+    bottleneck: str
+
+    @property
+    def cycles_per_element(self) -> float:
+        return self.throughput_bound / self.width
+
+    def explain(self) -> str:
+        ops = ", ".join(f"{n} {c}" for c, n in sorted(self.counts.items(), key=lambda kv: -kv[1]))
+        return (f"{sum(self.counts.values())} ops/vector ({ops}); throughput bound "
+                f"{self.throughput_bound:.2f} cycles/vector, limited by {self.bottleneck}; "
+                f"critical path {self.critical_path:.0f} cycles")
+
+
+def _key(value) -> int:
+    return ctypes.cast(value._ptr, ctypes.c_void_p).value
+
+
+def _minmax_selects(block) -> dict[int, int]:
+    """select(fcmp(a, b), a, b) or select(fcmp(a, b), b, a) is one x86 MIN/MAX:
+    maps each such select to its compare."""
+    defs = {_key(i): i for i in block.instructions}
+    out = {}
+    for instr in block.instructions:
+        if instr.opcode != "select":
+            continue
+        cond, a, b = list(instr.operands)
+        cmp = defs.get(_key(cond))
+        if cmp is not None and cmp.opcode == "fcmp" and {_key(o) for o in cmp.operands} == {_key(a), _key(b)}:
+            out[_key(instr)] = _key(cmp)
+    return out
+
+
+def predict(optimized_ir: str, function: str, width: int, machine=ZEN4, issue_width=ISSUE_WIDTH) -> Prediction:
+    """Model the ``vec.body`` block of ``function`` in ``optimized_ir``."""
+    mod = llvm.parse_assembly(optimized_ir)
+    fn = mod.get_function(function)
+    body = next((b for b in fn.blocks if b.name == "vec.body"), None)
+    if body is None:
+        raise ValueError(f"{function} has no vector loop (block vec.body)")
+    counts, slots = collections.Counter(), collections.Counter()
+    finish: dict[int, float] = {}
+    critical = 0.0
+    minmax = _minmax_selects(body)
+    folded = set(minmax.values())
+    for instr in body.instructions:
+        cls = classify(instr)
+        if _key(instr) in folded:
+            cls = None  # the compare of a min/max: part of one VMINPS/VMAXPS
+        elif _key(instr) in minmax:
+            cls = "fminmax"
+        start = max((finish.get(_key(op), 0.0) for op in instr.operands), default=0.0)
+        latency = machine[cls].latency if cls else 0.0
+        finish[_key(instr)] = start + latency
+        critical = max(critical, start + latency)
+        if cls:
+            counts[cls] += 1
+            slots[cls] += _slots(instr)
+    bounds = {cls: slots[cls] / machine[cls].per_cycle for cls in slots}
+    fp_slots = sum(n for cls, n in slots.items() if cls not in ("load", "store"))
+    bounds["issue width"] = fp_slots / issue_width
+    bottleneck = max(bounds, key=bounds.get)
+    return Prediction(width, dict(counts), dict(slots), critical, bounds[bottleneck], bottleneck)
+
+
+def predict_kernel(ufunc, machine=ZEN4) -> Prediction:
+    """``predict`` for a reactor kernel (its ``<name>.loop`` function)."""
+    from reactor import kernel_of
+    kern = kernel_of(ufunc)
+    return predict(kern.optimized_ir, f"{kern.name}.loop", kern.options.width, machine)
