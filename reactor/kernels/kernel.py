@@ -16,6 +16,7 @@ returns its ``Kernel`` with the IR, optimized IR and assembly.
 """
 from __future__ import annotations
 
+import ctypes
 import threading
 import weakref
 
@@ -24,7 +25,8 @@ from ..dsl.types import PointerType, VType
 from ..errors import DSLTypeError, ReactorError
 from ..ir import emitter as _em
 from ..options import BuildOptions, current_options
-from .loop import LoopEmitter
+from . import parallel
+from .loop import LoopEmitter, emit_dispatcher
 from .ufunc_api import make_ufunc
 
 _registry: "dict[int, weakref.ref[Kernel]]" = {}
@@ -43,13 +45,13 @@ class Kernel:
         ins, outs = _kinds(signature, name)
         self.in_kinds, self.out_kinds = ins, outs
         module = _em.ModuleEmitter(name, options)
-        loop_name = f"{name}.loop"
-        LoopEmitter(module, loop_name, body, ins, outs, options.width).emit()
+        loop_name, entry_name = f"{name}.loop", f"{name}.ufunc"
+        serial = LoopEmitter(module, loop_name, body, ins, outs, options.width).emit()
+        emit_dispatcher(module, entry_name, serial)
         self.code = CompiledCode(str(module.module), get_target(options.target), options.opt,
-                                 (loop_name,), options.cache, module.imports)
-        doc = (body.__doc__ or f"reactor kernel {name}").strip()
-        self.ufunc = None  # set by build_kernel; the ufunc owns this object
-        self._loop = self.code.address(loop_name)
+                                 (loop_name, entry_name), options.cache, module.imports)
+        self._loop = self.code.address(entry_name)
+        self.config = parallel.make_config(self.code.address(loop_name), len(ins) + len(outs))
         self._signature = [[k.dtype for k in ins + outs]]
 
     @property
@@ -99,7 +101,8 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., **opt
     doc = (body.__doc__ or f"reactor kernel '{name}'").strip()
     kern.ufunc_ref = ref = _UfuncRef()
     ufunc = make_ufunc(name, doc, [kern._loop], kern._signature, len(kern.in_kinds),
-                       len(kern.out_kinds), owner=(kern, _UfuncFreed(ref)))
+                       len(kern.out_kinds), owner=(kern, _UfuncFreed(ref)),
+                       data=[ctypes.addressof(kern.config)])
     ref._id = id(ufunc)
     with _registry_lock:
         _registry[id(ufunc)] = weakref.ref(kern)

@@ -270,3 +270,33 @@ def _to_memory(em, kind, value_ir):
         return em.emit("zext", value_ir, ir.VectorType(ir.IntType(8), value_ir.type.count)
                        if isinstance(value_ir.type, ir.VectorType) else ir.IntType(8), name="byte")
     return value_ir
+
+
+def emit_dispatcher(module, name: str, serial: ir.Function) -> ir.Function:
+    """``<name>.ufunc``: the loop NumPy calls. ``data`` points to a
+    ``parallel.LoopConfig``; calls of at least ``*threshold`` elements go to its
+    hook (which splits them across threads), all others straight to ``serial``."""
+    em = _em.FunctionEmitter(module, name, ir.VoidType(),
+                             [I8P.as_pointer(), I64.as_pointer(), I64.as_pointer(), I8P],
+                             ["args", "dims", "steps", "data"])
+    loop_ty = serial.function_type
+    cfg_ty = ir.LiteralStructType([I8P, loop_ty.as_pointer(), I64.as_pointer(), I64])
+    with em:
+        args, dims, steps, data = em.function.args
+        cfg = em.emit("bitcast", data, cfg_ty.as_pointer(), name="config")
+        field = lambda i, what: em.emit("load", em.emit("gep", cfg, [ir.Constant(I32, 0), ir.Constant(I32, i)],
+                                                        name=f"{what}.p"), name=what)
+        hook = field(1, "hook")
+        threshold = em.emit("load", field(2, "threshold.addr"), name="threshold")
+        n = em.emit("load", dims, name="n")
+        big = em.emit("icmp_signed", ">=", n, threshold, name="big")
+        parallel, serial_block = em.new_block("parallel"), em.new_block("serial")
+        em.cbranch(big, parallel, serial_block)
+        em.goto(parallel)
+        em.call(hook, [args, dims, steps, data])
+        em.ret(None)
+        em.goto(serial_block)
+        em.call(serial, [args, dims, steps, data])
+        em.ret(None)
+        em.finish()
+    return em.function

@@ -56,16 +56,17 @@ def _obj_offset() -> int:
 
 
 def make_ufunc(name: str, doc: str, loops: list[int], signatures: list[list[np.dtype]],
-               nin: int, nout: int, owner: object) -> np.ufunc:
+               nin: int, nout: int, owner: object, data: list[int] | None = None) -> np.ufunc:
     """A ufunc with one machine-code inner loop per signature (dtypes of inputs then outputs).
 
-    ``owner`` must hold ``loops``' machine code; it is kept alive by the ufunc.
+    ``data[i]`` is passed to loop i as its last argument. ``owner`` must hold
+    the loops' machine code and whatever ``data`` points to; the ufunc keeps it alive.
     """
     if len(loops) != len(signatures) or not loops:
         raise ValueError("need one loop per signature")
     ntypes = len(loops)
     funcs = (ctypes.c_void_p * ntypes)(*loops)
-    data = (ctypes.c_void_p * ntypes)()
+    data = (ctypes.c_void_p * ntypes)(*(data or [None] * ntypes))
     types = (ctypes.c_char * (ntypes * (nin + nout)))(
         *[np.dtype(t).num for sig in signatures for t in sig])
     name_b, doc_b = ctypes.create_string_buffer(name.encode()), ctypes.create_string_buffer(doc.encode())
