@@ -4,7 +4,8 @@ Commands: remez (fit a minimax polynomial), specials (print the special-value
 tables of docs/specials.md), accuracy (measure a variant's error on the
 compiled code), bench (time every variant against NumPy), zoo (the reference's
 methods, its figures beside ours), chart (the cost/error chart), report (the
-main job: every variant's accuracy and speed, the table, chart and JSON).
+main job: every variant's accuracy and speed, the table, chart and JSON),
+docs (write docs/routines/*.md from the measurements).
 """
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ COMMANDS = {
     "zoo": "routines.cli.zoo",
     "chart": "routines.cli.chart",
     "report": "routines.cli.report",
+    "docs": "routines.cli.docs",
 }
 
 

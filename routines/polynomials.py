@@ -75,7 +75,8 @@ EXP2_FULL = Polynomial(
     function="(2^x-x-1)/x", weight="1/x", interval=("0", "1"),
     coefficients=("1.8852974e-3", "8.9733787e-3", "5.5835927e-2", "2.4015281e-1", "-3.0684753e-1"),
     provenance="reference write-up, section 'Gaining Significance' (LolRemez --float -d 4 -r 0:1 "
-               "\"(2^x-x-1)/x\" \"1/x\"); our fitter agrees to 1 float32 ulp in one coefficient",
+               "\"(2^x-x-1)/x\" \"1/x\"); our fitter's 8-digit p(x) line matches these digits exactly "
+               "(rounded straight to float32, one coefficient is 1 ulp away: LolRemez's double rounding)",
 )
 
 EXP2_RELAXED = Polynomial(
@@ -92,7 +93,8 @@ LOG2_FULL = Polynomial(
     coefficients=("-9.3091638e-3", "5.2059003e-2", "-1.3752135e-1", "2.4186478e-1",
                   "-3.4730109e-1", "4.786837e-1", "-7.2116581e-1", "4.4268988e-1"),
     provenance="reference write-up, section 'Second Try' (LolRemez --float -d 7 -r 0:1 "
-               "\"(log2(x+1)-x)/x\" \"1/x\"); our fitter agrees to 1 float32 ulp in three coefficients",
+               "\"(log2(x+1)-x)/x\" \"1/x\"); our fitter's 8-digit p(x) line matches these digits exactly "
+               "(rounded straight to float32, three coefficients are 1 ulp away: LolRemez's double rounding)",
 )
 
 LOG2_RELAXED = Polynomial(

@@ -30,9 +30,9 @@ class Row:
 
 
 NOTES = {
-    "exp2": "Negative inputs closer to 0 than 2^-24 reduce to f = x - floor(x) = 1 (the "
-            "subtraction rounds up), so full precision returns 1 - 2^-24 there (1 ULP below 1, "
-            "within tolerance; the reference discusses this wrap-around) and relaxed is within its "
+    "exp2": "Negative inputs closer to 0 than about 2^-25 reduce to f = x - floor(x) = 1 - 2^-24 "
+            "with floor(x) = -1 (the reference discusses this wrap-around), so full precision "
+            "returns 1 - 2^-24 there (1 ULP below 1, within tolerance) and relaxed is within its "
             "tolerance. Results below 2^-126 are flushed to +0: exp2 is monotone and never negative.",
     "exp": "exp(x) = exp2(x * log2(e)): thresholds follow from exp2's.",
     "log2": "Subnormal inputs are exact in both precisions (exponent extraction normalizes them).",

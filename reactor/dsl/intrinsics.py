@@ -246,14 +246,21 @@ def RsqrtApprox(x):
 
 
 def Fract(x):
-    """``x - Floor(x)`` in [0, 1), exact, for finite ``x`` (one AVX-512DQ
-    VREDUCEPS); ``Fract(±inf) = 0``, ``Fract(NaN) = NaN``. A zero result may
-    be -0.0."""
+    """``x - Floor(x)`` in [0, 1) for finite ``x`` (one AVX-512DQ VREDUCEPS).
+
+    The difference is exact except for tiny negative ``x``, where it would
+    round up to 1: the result is then 1 - 2^-24, the largest float below 1
+    (what VREDUCEPS returns; the portable path clamps to match).
+    ``Fract(±inf) = 0``, ``Fract(NaN) = NaN``; a zero result may be -0.0."""
     _require_float("Fract", x)
     natives = ops.avx512_natives(_features(), "reduce", imm=1, need="avx512dq")
     if natives:
         return _native("fract", x, natives)
-    return Select(IsInf(x), 0.0, x - Floor(x)).named("fract")
+    below_one = Min(_BELOW_ONE, x - Floor(x))  # constant first: NaN propagates
+    return Select(IsInf(x), 0.0, below_one).named("fract")
+
+
+_BELOW_ONE = 1.0 - 2.0 ** -24
 
 
 _MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000

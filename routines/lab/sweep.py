@@ -467,6 +467,14 @@ def _hard_pow():
     return np.concatenate([gx.ravel(), ex]), np.concatenate([gy.ravel(), ey])
 
 
+def _unique(bits):
+    """Sorted distinct values (np.unique is ~30x slower on uint32 in NumPy 2.4)."""
+    bits = np.sort(bits)
+    keep = np.ones(bits.size, dtype=bool)
+    keep[1:] = bits[1:] != bits[:-1]
+    return bits[keep]
+
+
 def sample_inputs(func, n, seed=0):
     """A sample of float32 operands (as uint32 bit patterns) for quick checks.
 
@@ -501,7 +509,7 @@ def sample_inputs(func, n, seed=0):
                    _uniform(rng, n - half - (n - half) // 2, -0.0, lo)]
     else:
         random += [_uniform(rng, n - half, lo, hi)]
-    return (np.unique(np.concatenate([_hard_unary(func)] + random)),)
+    return (_unique(np.concatenate([_hard_unary(func)] + random)),)
 
 
 def _check(func, precision, y):
