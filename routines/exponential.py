@@ -2,16 +2,18 @@
 
 Algorithm (reference write-up, "Gaining Significance"), for float32 x:
 
-    x' = min(x, 128)                        NaN passes through
-    f  = x' - floor(x')                     in [0, 1), exact (0 for -inf)
-    y  = P(f) * f + x'                      P ~ (2^f - f - 1)/f, so y ~ floor(x') + 2^f - 1
+    f  = x - floor(x)                       in [0, 1), exact (0 for infinities)
+    y  = P(f) * f + x                       P ~ (2^f - f - 1)/f, so y ~ floor(x) + 2^f - 1
     2^x = bits(int(y * 2^23) + (127 << 23)) the integer part of y lands in the
                                             exponent field, 2^f - 1 in the mantissa
 
 Adding the small correction P(f)*f (range [-0.086, 0]) to x instead of
 multiplying 2^floor(x) by a polynomial in [1, 2) is what keeps full precision
-within Vulkan's tolerance. x >= 128 gives +inf (y = 128 is exactly the bits of
-+inf). The relaxed variant uses a degree-2 P and, when FMA is on, inserts the
+within Vulkan's tolerance. x >= 128 gives +inf: y = 128 is exactly the bits of
++inf, and every larger y (including the conversions that overflow int32) is
+clamped to them by one *unsigned integer* min on the bits, which runs on the
+vector-integer pipes instead of the FMA pipes that bound this routine (a float
+clamp of x would cost an FMA-pipe slot). The relaxed variant uses a degree-2 P and, when FMA is on, inserts the
 exponent with one fused multiply-add in float: int(fma(y, 2^23, 127 * 2^23)).
 Without FMA that trick would cost a multiply and an add, the same as the
 integer path, which rounds less, so relaxed without FMA takes the integer path.
@@ -31,32 +33,28 @@ from .polynomials import EXP2_FULL, EXP2_RELAXED
 LOG2_E = 1.4426950408889634  # rounded to float32 where used: 0x3FB8AA3B
 MANTISSA_SCALE = float(2 ** 23)
 BIAS_BITS = 127 << 23
-
-
-def reduce(x):
-    """(x', f): x clamped above at 128 (NaN kept) and its fractional part.
-
-    No lower clamp is needed: below -126 every result is replaced by +0 in
-    ``fix_specials``, whatever garbage the exponent insertion produced there."""
-    xc = Min(128.0, x)  # constant first: x86 MIN then propagates a NaN x
-    return xc, Fract(xc)
+INF_BITS = 0x7F800000
 
 
 def insert_exponent(y, float_trick: bool):
-    """2^floor(y) * (1 + fract(y)) as float bits: the piecewise-linear 2^y."""
+    """2^floor(y) * (1 + fract(y)) as float bits (the piecewise-linear 2^y),
+    saturated to +inf for y >= 128."""
     Int_ = vector_type("Int", y.width)
+    UInt_ = vector_type("UInt", y.width)
     Float_ = vector_type("Float", y.width)
     if float_trick:
         with fma_mode(True):
             bits = ToInt(MulAdd(y, MANTISSA_SCALE, float(BIAS_BITS)), saturate=False)
     else:
         bits = ToInt(y * MANTISSA_SCALE, saturate=False) + Int_(BIAS_BITS)
-    return As(Float_, bits)
+    # Overflowed conversions give 0x80000000 or wrap past the exponent field:
+    # as unsigned they all exceed +inf's bits.
+    return As(Float_, Min(As(UInt_, bits), UInt_(INF_BITS)))
 
 
-def fix_specials(xc, f, r):
-    """+0 where 2^x is below the normal range (x' < -126), NaN where x is NaN."""
-    tiny_or_nan = ~(xc >= -126.0)  # unordered-or-less: one compare for both cases
+def fix_specials(x, f, r):
+    """+0 where 2^x is below the normal range (x < -126), NaN where x is NaN."""
+    tiny_or_nan = ~(x >= -126.0)  # unordered-or-less: one compare for both cases
     return Select(tiny_or_nan, f - f, r)  # f - f: +0 (f is finite, even for -inf), NaN for NaN
 
 
@@ -65,14 +63,14 @@ def exp2(x, precision: str = "full"):
     """2^x for Float values of any width; see the module docstring."""
     from reactor.ir import emitter
     x = float_value(x, "exp2")
-    xc, f = reduce(x)
+    f = Fract(x)
     if precision == "full":
-        y = MulAdd(EXP2_FULL(f), f, xc)
+        y = MulAdd(EXP2_FULL(f), f, x)
         r = insert_exponent(y, float_trick=False)
     else:
-        y = MulAdd(EXP2_RELAXED(f), f, xc)
+        y = MulAdd(EXP2_RELAXED(f), f, x)
         r = insert_exponent(y, float_trick=emitter.current().fma)
-    return fix_specials(xc, f, r).named("exp2")
+    return fix_specials(x, f, r).named("exp2")
 
 
 @routine

@@ -11,10 +11,21 @@ flight to reach that bound.
 
 The machine is described by a small table (``ZEN4``; numbers from AMD's Zen 4
 optimization guide and uops.info, rounded): each operation class has a latency
-in cycles and a throughput in 256-bit operations per cycle. Zen 4 executes a
-512-bit operation as two 256-bit halves, so a zmm operation costs two slots;
-xmm and scalar operations cost one. The FP/vector issue width is 4 slots per
-cycle (four 256-bit FP pipes), loads 2 and stores 1 per cycle (256-bit).
+in cycles, a throughput in 256-bit operations per cycle and the execution
+pipes it can run on. Zen 4 executes a 512-bit operation as two 256-bit halves,
+so a zmm operation costs two slots; xmm and scalar operations cost one. The
+FP/vector issue width is 4 slots per cycle (four 256-bit FP pipes), loads 2
+and stores 1 per cycle (256-bit).
+
+Classes share pipes (the pipe map of AMD's Software Optimization Guide for
+Family 19h, pub. 57647, section 2.11.1, as encoded in LLVM's
+``X86ScheduleZnver4.td``): FP0/FP1 run multiplies, FMAs, compares, min/max
+and reciprocal estimates; FP2/FP3 additions, conversions and roundings; all
+four integer ALU ops and logic; FP1/FP2 shifts and shuffles; FP1 the
+divider/square root. The throughput bound is therefore the largest, over
+every set S of pipes, of (slots of the classes that can only run on S) / |S|
+(with an operation that keeps a pipe busy for several cycles counted that
+many times): the exact bound of spreading the work over the pipes.
 """
 from __future__ import annotations
 
@@ -31,34 +42,45 @@ class OpClass:
     latency: float
     per_cycle: float  # 256-bit operations started per cycle (all pipes of the class)
     what: str
+    pipes: tuple = ()  # the pipes it can use (empty: a resource of its own)
+
+    @property
+    def busy(self) -> float:
+        """Cycles one 256-bit operation keeps one of its pipes busy."""
+        return len(self.pipes) / self.per_cycle if self.pipes else 1 / self.per_cycle
 
 
+_FP01, _FP23, _FP12, _FP0123 = ("FP0", "FP1"), ("FP2", "FP3"), ("FP1", "FP2"), ("FP0", "FP1", "FP2", "FP3")
 ZEN4 = {
-    "fma": OpClass(4, 2, "fused multiply-add (FP0/FP1)"),
-    "fmul": OpClass(3, 2, "multiply (FP0/FP1)"),
-    "fadd": OpClass(3, 2, "add/subtract (FP2/FP3)"),
-    "fminmax": OpClass(2, 2, "compare-select min/max"),
-    "fcmp": OpClass(3, 2, "compare into a mask"),
-    "blend": OpClass(1, 4, "select/blend, masked move"),
-    "convert": OpClass(4, 2, "float<->int conversion"),
-    "round": OpClass(3, 2, "floor/ceil/round, VREDUCEPS, VGETEXPPS, VGETMANTPS"),
-    "estimate": OpClass(5, 1, "RCP14/RSQRT14 estimates"),
-    "sqrt": OpClass(15, 0.2, "square root (not pipelined)"),
-    "divide": OpClass(11, 0.2, "division (not pipelined)"),
-    "int": OpClass(1, 4, "integer vector ALU"),
-    "shuffle": OpClass(1, 2, "broadcast/shuffle"),
+    "fma": OpClass(4, 2, "fused multiply-add (FP0/FP1)", _FP01),
+    "fmul": OpClass(3, 2, "multiply (FP0/FP1)", _FP01),
+    "fadd": OpClass(3, 2, "add/subtract (FP2/FP3)", _FP23),
+    "fminmax": OpClass(2, 2, "compare-select min/max (FP0/FP1)", _FP01),
+    "fcmp": OpClass(3, 2, "compare into a mask (FP0/FP1)", _FP01),
+    "blend": OpClass(1, 4, "select: masked move, or folded into the producer's mask (any FP pipe)", _FP0123),
+    "convert": OpClass(4, 2, "float<->int conversion (FP2/FP3)", _FP23),
+    "round": OpClass(3, 2, "floor/ceil/round, VREDUCEPS, VGETEXPPS, VGETMANTPS (FP2/FP3)", _FP23),
+    "estimate": OpClass(5, 2, "RCP14 estimate (FP0/FP1)", _FP01),
+    "estimate_rsqrt": OpClass(5, 1, "RSQRT14 estimate (FP1)", ("FP1",)),
+    "sqrt": OpClass(15, 0.2, "square root (FP1, not pipelined)", ("FP1",)),
+    "divide": OpClass(11, 1 / 3, "division (FP1, not pipelined)", ("FP1",)),
+    "int": OpClass(1, 4, "integer vector ALU, logic (any FP pipe)", _FP0123),
+    "shift": OpClass(1, 2, "vector integer shift (FP1/FP2)", _FP12),
+    "shuffle": OpClass(1, 2, "broadcast/shuffle (FP1/FP2)", _FP12),
     "call": OpClass(20, 0.1, "external call (opaque)"),
-    "load": OpClass(7, 2, "vector load (L1 hit)"),
-    "store": OpClass(1, 1, "vector store"),
+    "load": OpClass(7, 2, "vector load (L1 hit)", ("LD0", "LD1")),
+    "store": OpClass(1, 1, "vector store", ("ST",)),
 }
 ISSUE_WIDTH = 4  # 256-bit FP/vector slots per cycle
 _FREE = {"bitcast", "freeze", "phi", "getelementptr", "br", "icmp", "shl"}
+_VECTOR_OPS = {"icmp": "int", "shl": "shift"}  # free on scalars (addressing, loop control), not on vectors
 
 _INTRINSIC_CLASSES = [
-    (r"llvm\.fma\.", "fma"), (r"llvm\.fmuladd", "fma"), (r"llvm\.(minnum|maxnum|smin|smax|umin|umax)", "fminmax"),
+    (r"llvm\.fma\.", "fma"), (r"llvm\.fmuladd", "fma"), (r"llvm\.(minnum|maxnum)", "fminmax"),
+    (r"llvm\.(smin|smax|umin|umax)", "int"),  # VPMIN/VPMAX: integer ALU, any pipe
     (r"llvm\.(floor|ceil|trunc|roundeven|rint)", "round"),
     (r"x86\.avx512\.mask\.(reduce|getexp|getmant|rndscale)", "round"),
-    (r"(rcp|rsqrt)", "estimate"), (r"llvm\.sqrt", "sqrt"), (r"llvm\.fabs|llvm\.copysign", "int"),
+    (r"rsqrt", "estimate_rsqrt"), (r"rcp", "estimate"), (r"llvm\.sqrt", "sqrt"), (r"llvm\.fabs|llvm\.copysign", "int"),
     (r"llvm\.fpto[su]i\.sat", "convert"), (r"llvm\.masked\.load", "load"), (r"llvm\.masked\.store", "store"),
     (r"llvm\.x86\.sse\.(st|ld)mxcsr", None), (r"llvm\.vector\.reduce", "shuffle"),
 ]
@@ -66,7 +88,7 @@ _OPCODE_CLASSES = {
     "fadd": "fadd", "fsub": "fadd", "fneg": "int", "fmul": "fmul", "fdiv": "divide",
     "fcmp": "fcmp", "select": "blend", "fptosi": "convert", "fptoui": "convert", "sitofp": "convert",
     "uitofp": "convert", "add": "int", "sub": "int", "and": "int", "or": "int", "xor": "int",
-    "lshr": "int", "ashr": "int", "mul": "int", "insertelement": "shuffle",
+    "lshr": "shift", "ashr": "shift", "mul": "int", "insertelement": "shuffle",
     "extractelement": "shuffle", "shufflevector": "shuffle", "load": "load", "store": "store",
     "zext": "int", "sext": "int", "trunc": "int",
 }
@@ -89,6 +111,8 @@ def classify(instr) -> str | None:
             if re.search(pattern, callee):
                 return cls
         return "call"
+    if op in _VECTOR_OPS and str(instr.type).startswith("<"):
+        return _VECTOR_OPS[op]
     if op in _FREE:
         return None
     if op in ("add", "and", "or", "xor") and str(instr.type) == "i64":
@@ -147,6 +171,22 @@ def _minmax_selects(block) -> dict[int, int]:
     return out
 
 
+def _pipe_bounds(slots, machine) -> dict[str, float]:
+    """Cycles per vector forced by each set of pipes (see the module docstring),
+    named by the classes confined to it; classes without pipes on their own."""
+    bounds = {cls: n / machine[cls].per_cycle for cls, n in slots.items() if not machine[cls].pipes}
+    pipes = sorted({p for cls in slots for p in machine[cls].pipes})
+    for mask in range(1, 1 << len(pipes)):
+        subset = {p for k, p in enumerate(pipes) if mask >> k & 1}
+        inside = [cls for cls in slots if machine[cls].pipes and set(machine[cls].pipes) <= subset]
+        if not inside:
+            continue
+        demand = sum(slots[cls] * machine[cls].busy for cls in inside)
+        name = "/".join(sorted(subset)) + " (" + ", ".join(sorted(inside)) + ")"
+        bounds[name] = demand / len(subset)
+    return bounds
+
+
 def predict(optimized_ir: str, function: str, width: int, machine=ZEN4, issue_width=ISSUE_WIDTH) -> Prediction:
     """Model the ``vec.body`` block of ``function`` in ``optimized_ir``."""
     mod = llvm.parse_assembly(optimized_ir)
@@ -172,9 +212,9 @@ def predict(optimized_ir: str, function: str, width: int, machine=ZEN4, issue_wi
         if cls:
             counts[cls] += 1
             slots[cls] += _slots(instr)
-    bounds = {cls: slots[cls] / machine[cls].per_cycle for cls in slots}
     fp_slots = sum(n for cls, n in slots.items() if cls not in ("load", "store"))
-    bounds["issue width"] = fp_slots / issue_width
+    bounds = {"issue width": fp_slots / issue_width}  # first: named so on a tie
+    bounds.update(_pipe_bounds(slots, machine))
     bottleneck = max(bounds, key=bounds.get)
     return Prediction(width, dict(counts), dict(slots), critical, bounds[bottleneck], bottleneck)
 

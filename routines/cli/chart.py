@@ -1,0 +1,49 @@
+"""``python -m routines chart [--from FILE] [--error ulp|margin] [--out DIR]``
+
+Draws the cost/error chart (one panel per function: x = cycles/element at
+the L2-resident size, y = max ULP-32 on a log scale, or the max margin
+against the highp tolerance with ``--error margin``; our variants and the
+peers, the Pareto frontier and its lower convex hull, non-conforming points
+marked) as PNG and SVG, from the JSON that ``python -m routines report``
+wrote (default ``out/report.json``). Without that file it first runs the
+report in its quick mode (and writes the JSON). See docs/performance.md.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+
+from ..perf import chart, report, timing
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(prog="python -m routines chart", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--from", dest="source", metavar="FILE",
+                        help="report JSON (default DIR/report.json)")
+    parser.add_argument("--error", choices=("ulp", "margin"), default="ulp")
+    parser.add_argument("--out", default="out", metavar="DIR")
+    parser.add_argument("--name", help="file name without extension (default chart / chart-margin)")
+    args = parser.parse_args(argv)
+    source = args.source or os.path.join(args.out, "report.json")
+    if os.path.exists(source):
+        with open(source) as f:
+            data = json.load(f)
+    else:
+        if args.source:
+            print(f"no such file: {source}", file=sys.stderr)
+            return 2
+        print(f"{source} not found: running the quick report first", file=sys.stderr)
+        data = report.to_json(report.run(sizes={"L2": timing.SIZES["L2"]}, rounds={"L2": 7},
+                                         samples=2 ** 14, threads2=False))
+        os.makedirs(args.out, exist_ok=True)
+        with open(source, "w") as f:
+            json.dump(data, f, indent=1)
+    name = args.name or ("chart" if args.error == "ulp" else "chart-margin")
+    paths = chart.draw(report.chart_panels(data, args.error), os.path.join(args.out, name), error=args.error,
+                       title=f"cost vs {'max ULP-32' if args.error == 'ulp' else 'max margin'} "
+                             f"({data['machine'].get('llvm_cpu')}, {data['clock']['ghz']:.2f} GHz)")
+    print("wrote " + ", ".join(paths))
+    return 0

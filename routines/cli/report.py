@@ -1,0 +1,58 @@
+"""``python -m routines report [--quick] [--exhaustive] [--out DIR] ...``
+
+The main job: builds every variant (function x precision x FMA x SIMD width
+4/8/16) and the peers (NumPy, glibc libmvec, SLEEF, numba where installed),
+measures their accuracy (the lab's sample by default, every input with
+``--exhaustive``) and their speed (L1, L2 and DRAM sizes, one thread, and two
+threads at the DRAM size; the clock calibrated in the same run), models
+every variant's loop, prints the table and the targets, and writes
+``DIR/report.json`` (every figure), ``DIR/chart.png``/``.svg`` (cost vs max
+ULP) and ``DIR/chart-margin.png``/``.svg`` (cost vs margin). Progress goes
+to stderr. See docs/performance.md.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+
+from ..perf import chart, report, timing
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(prog="python -m routines report", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", default="out", metavar="DIR", help="output directory (default out/)")
+    parser.add_argument("--quick", action="store_true",
+                        help="small sample (2^14), L2 size only, fewer rounds (under a minute)")
+    parser.add_argument("--exhaustive", action="store_true",
+                        help="accuracy over all 2^32 inputs (pow: the stratified pair sweep); ~40 s per variant")
+    parser.add_argument("--exhaustive-peers", action="store_true", help="the same for the peers")
+    parser.add_argument("--functions", nargs="+", default=list(report.FUNCTIONS), choices=report.FUNCTIONS)
+    parser.add_argument("--sizes", nargs="+", choices=list(timing.SIZES), help="default: all (quick: L2)")
+    parser.add_argument("--rounds", type=int, help="timing rounds per size (default 61, DRAM 9)")
+    parser.add_argument("--samples", type=int, help="random inputs of the accuracy sample (default 2^20)")
+    parser.add_argument("--no-threads", action="store_true", help="skip the two-thread timings")
+    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    args = parser.parse_args(argv)
+    sizes = args.sizes or (["L2"] if args.quick else list(timing.SIZES))
+    rounds = args.rounds or (7 if args.quick else None)
+    samples = args.samples or (2 ** 14 if args.quick else 2 ** 20)
+    result = report.run(args.functions, sizes={s: timing.SIZES[s] for s in sizes},
+                        rounds={s: rounds for s in sizes} if rounds else None, samples=samples,
+                        exhaustive=args.exhaustive, exhaustive_peers=args.exhaustive_peers,
+                        threads2=not args.no_threads, progress=not args.quiet)
+    result["settings"]["command"] = "python -m routines report " + " ".join(argv)
+    os.makedirs(args.out, exist_ok=True)
+    paths = []
+    for error, name in (("ulp", "chart"), ("margin", "chart-margin")):
+        paths += chart.draw(report.chart_panels(result, error), os.path.join(args.out, name), error=error,
+                            title=f"cost vs {'max ULP-32' if error == 'ulp' else 'max margin'} "
+                                  f"({result['machine'].get('llvm_cpu')}, {result['clock']['ghz']:.2f} GHz)")
+    result["chart"] = paths
+    with open(os.path.join(args.out, "report.json"), "w") as f:
+        json.dump(report.to_json(result), f, indent=1)
+    print(report.print_table(result))
+    print(f"\nwrote {os.path.join(args.out, 'report.json')}, " + ", ".join(paths), file=sys.stderr)
+    return 0

@@ -1,0 +1,215 @@
+"""The peers our routines are compared with, and their accuracy.
+
+* **NumPy** float32 ufuncs (``np.exp2``, ``np.log2``, ``np.power``, ...). On
+  this machine NumPy dispatches to its AVX-512 loops.
+* **glibc libmvec** (``libmvec.so.1``): the x86-64 vector-function ABI
+  entry points for 16 float32 lanes (``_ZGVeN16v_exp2f``, ``_ZGVeN16v_log2f``,
+  ``_ZGVeN16vv_powf``, ...), called from a reactor kernel of width 16 through
+  :class:`reactor.External`, so they run in exactly the loop our kernels run
+  in (contiguous loads, one call per 16 elements, masked tail).
+* **SLEEF** (Debian's ``libsleef3``, ``libsleef.so.3``): ``Sleef_exp2f16_u10``
+  / ``_u35``, ``Sleef_log2f16_u10`` / ``_u35``, ``Sleef_powf16_u10``,
+  ``Sleef_fastpowf16_u3500``, ... the same way. The suffix is SLEEF's error
+  bound: u10 = 1.0 ULP, u35 = 3.5 ULP, u3500 = 350 ULP, u05 = 0.5001 ULP.
+  Where the library is not installed (``apt-get install libsleef3``) these
+  peers are reported **absent**, not failed.
+* **numba** ``@vectorize`` float32 ufuncs, only where numba is importable
+  (absent otherwise).
+
+Each peer gets an accuracy point from the same lab call as our variants
+(:func:`routines.lab.evaluate` on the same sample, or the exhaustive sweep),
+scored against the full (highp) *and* the relaxed tolerance, so the chart
+can place it and the report can say which tolerance it meets. C libraries
+follow C99 at special values (``powf(0, 0) = 1``, ``powf(-8, 1/3)`` ...)
+where the Vulkan/GLSL definition (and our reference) says NaN: such
+differences are counted as special-value mismatches, apart from the
+tolerance verdict (see :func:`accuracy_verdict`).
+"""
+from __future__ import annotations
+
+import dataclasses
+import functools
+from typing import Callable
+
+import numpy as np
+
+LIBMVEC = "libmvec.so.1"
+LIBSLEEF = "libsleef.so.3"
+
+#: (family, label, symbol or numpy callable, arity, documented accuracy) per function.
+_NUMPY = {
+    "exp2": (np.exp2, "np.exp2"), "exp": (np.exp, "np.exp"), "log2": (np.log2, "np.log2"),
+    "log": (np.log, "np.log"), "pow": (np.power, "np.power"), "sqrt": (np.sqrt, "np.sqrt"),
+    "rcp": (np.reciprocal, "np.reciprocal"),
+}
+_MVEC = {
+    "exp2": "_ZGVeN16v_exp2f", "log2": "_ZGVeN16v_log2f", "pow": "_ZGVeN16vv_powf",
+    "exp": "_ZGVeN16v_expf", "log": "_ZGVeN16v_logf",
+}
+_SLEEF = {
+    "exp2": ["Sleef_exp2f16_u10", "Sleef_exp2f16_u35"],
+    "log2": ["Sleef_log2f16_u10", "Sleef_log2f16_u35"],
+    "pow": ["Sleef_powf16_u10", "Sleef_fastpowf16_u3500"],
+    "exp": ["Sleef_expf16_u10"],
+    "log": ["Sleef_logf16_u10", "Sleef_logf16_u35"],
+    "sqrt": ["Sleef_sqrtf16_u05", "Sleef_sqrtf16_u35"],
+}
+_SLEEF_CLAIM = {"u05": "0.5001 ULP", "u10": "1.0 ULP", "u35": "3.5 ULP", "u3500": "350 ULP"}
+ARITY = {"pow": 2}
+
+
+@dataclasses.dataclass
+class Peer:
+    """One peer implementation of ``func``. ``fn(*args, out=out)`` when present."""
+
+    key: str  # unique, e.g. "sleef exp2 u10"
+    func: str
+    family: str  # numpy, libmvec, sleef, numba
+    label: str  # what it is (symbol or NumPy call)
+    claimed: str  # documented accuracy
+    fn: Callable | None = None
+    reason: str = ""  # why absent
+
+    @property
+    def present(self) -> bool:
+        return self.fn is not None
+
+    def to_json(self) -> dict:
+        return {"key": self.key, "func": self.func, "family": self.family, "label": self.label,
+                "claimed": self.claimed, "status": "present" if self.present else "absent",
+                "reason": self.reason}
+
+
+@functools.lru_cache(maxsize=None)
+def external_kernel(symbol: str, library: str, arity: int = 1, width: int = 16):
+    """A reactor ufunc calling the vector function ``symbol`` (``width`` float32
+    lanes) of ``library`` once per vector; None if the library or symbol is
+    missing (the reason is then in :func:`missing`)."""
+    import reactor
+    from reactor import External, Float
+
+    vec = reactor.vector_type("Float", width)
+    ext = External(symbol, returns=vec, args=(vec,) * arity, library=library)
+    if not ext.available:
+        return None
+    if arity == 1:
+        def body(x):
+            return ext(x)
+    else:
+        def body(x, y):
+            return ext(x, y)
+    body.__doc__ = f"{symbol} from {library} (peer)"
+    return reactor.kernel(body, name=f"peer_{symbol}", args=[Float] * arity, returns=Float,
+                          width=width)
+
+
+def missing(symbol: str, library: str) -> str:
+    """Why an external peer is absent."""
+    import ctypes
+    try:
+        ctypes.CDLL(library)
+    except OSError:
+        hint = " (Debian/Ubuntu: apt-get install libsleef3)" if "sleef" in library else ""
+        return f"{library} not installed{hint}"
+    return f"{library} has no symbol {symbol}"
+
+
+class _RsqrtNumpy:
+    """``1 / np.sqrt(x)`` in two NumPy passes through a scratch array laid out
+    like ``out`` (an in-place second pass on the harness's stride-0 views
+    would make NumPy copy the overlapping operand)."""
+
+    def __init__(self):
+        self._scratch = {}
+
+    def __call__(self, x, out):
+        key = (out.shape, out.strides)
+        tmp = self._scratch.get(key)
+        if tmp is None:
+            base = np.empty(out.shape[-1] if out.ndim else 1, np.float32)
+            tmp = np.lib.stride_tricks.as_strided(base, out.shape, out.strides) \
+                if out.ndim == 2 and out.strides[0] == 0 else np.empty_like(out)
+            self._scratch = {key: tmp}
+        np.sqrt(x, out=tmp)
+        return np.divide(np.float32(1.0), tmp, out=out)
+
+
+_rsqrt_numpy = _RsqrtNumpy()
+
+
+@functools.lru_cache(maxsize=None)
+def _numba_ufunc(func: str):
+    import numba  # noqa: F401 - ImportError means absent
+
+    sig1, sig2 = ["float32(float32)"], ["float32(float32, float32)"]
+    bodies = {
+        "exp2": (sig1, lambda x: np.exp2(x)), "exp": (sig1, lambda x: np.exp(x)),
+        "log2": (sig1, lambda x: np.log2(x)), "log": (sig1, lambda x: np.log(x)),
+        "sqrt": (sig1, lambda x: np.sqrt(x)), "rcp": (sig1, lambda x: np.float32(1.0) / x),
+        "rsqrt": (sig1, lambda x: np.float32(1.0) / np.sqrt(x)),
+        "pow": (sig2, lambda x, y: x ** y),
+    }
+    sig, fn = bodies[func]
+    return numba.vectorize(sig, nopython=True)(fn)
+
+
+def peers(functions, libraries: dict | None = None) -> list[Peer]:
+    """Every peer of ``functions``, present or absent. ``libraries`` overrides
+    library names (``{"sleef": "libnothere.so"}`` in the tests)."""
+    libs = {"libmvec": LIBMVEC, "sleef": LIBSLEEF} | (libraries or {})
+    out = []
+    for func in functions:
+        arity = ARITY.get(func, 1)
+        if func in _NUMPY:
+            ufunc, label = _NUMPY[func]
+            out.append(Peer(f"numpy {func}", func, "numpy", label, "not documented", ufunc))
+        elif func == "rsqrt":
+            out.append(Peer("numpy rsqrt", func, "numpy", "1 / np.sqrt (two passes)",
+                            "0.5 + 0.5 ULP (two rounded operations)", _rsqrt_numpy))
+        if func in _MVEC:
+            sym = _MVEC[func]
+            k = external_kernel(sym, libs["libmvec"], arity)
+            out.append(Peer(f"libmvec {func}", func, "libmvec", sym, "glibc: vector variants <= 4 ULP",
+                            k, "" if k is not None else missing(sym, libs["libmvec"])))
+        for sym in _SLEEF.get(func, ()):
+            suffix = sym.rsplit("_", 1)[1]
+            k = external_kernel(sym, libs["sleef"], arity)
+            name = "fastpow" if "fastpow" in sym else func
+            out.append(Peer(f"sleef {name} {suffix}", func, "sleef", sym, _SLEEF_CLAIM.get(suffix, suffix),
+                            k, "" if k is not None else missing(sym, libs["sleef"])))
+        try:
+            fn, reason = _numba_ufunc(func), ""
+        except ImportError:
+            fn, reason = None, "numba not installed"
+        except Exception as exc:  # a numba that fails to compile this body
+            fn, reason = None, f"numba failed: {exc}"
+        out.append(Peer(f"numba {func}", func, "numba", "numba.vectorize of the NumPy expression",
+                        "as NumPy/LLVM libm", fn, reason))
+    return out
+
+
+def as_array_function(fn: Callable) -> Callable:
+    """``fn(*args, out=)`` as a float32 array function (for the accuracy lab)."""
+    if isinstance(fn, np.ufunc):
+        return fn
+
+    def call(*args):
+        out = np.empty(np.broadcast(*args).shape, np.float32)
+        fn(*args, out=out)
+        return out
+    return call
+
+
+def accuracy_verdict(full, relaxed) -> dict:
+    """A peer's accuracy class from its two lab results (``SweepResult``).
+
+    ``highp``: no scored input beyond the full tolerance; ``relaxed``: none
+    beyond the relaxed one; ``specials``: no special-value mismatch (NaN,
+    infinities, signed zeros, as the lab defines them)."""
+    return {
+        "meets_full_tolerance": full.nonconforming == 0,
+        "meets_relaxed_tolerance": relaxed.nonconforming == 0,
+        "special_mismatches": full.mismatches,
+        "class": ("highp" if full.nonconforming == 0 else
+                  "relaxed" if relaxed.nonconforming == 0 else "neither"),
+    }

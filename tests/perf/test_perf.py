@@ -1,0 +1,164 @@
+"""Fast tests of the performance tools: Pareto frontier and hull, the chart,
+clock calibration, the cost model's pipe sharing, peers reported absent, and
+a tiny run of the report (its JSON keys)."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from routines.perf import chart, clock, model, peers, report, timing
+
+
+# -- Pareto frontier and lower convex hull ------------------------------------------------
+
+POINTS = [(1, 10), (2, 5), (3, 4.5), (4, 1), (2.5, 8), (5, 0.9), (6, 0.95), (1, 12), (4, 1)]
+
+
+def test_pareto_front_known_points():
+    # (2.5, 8) is beaten by (2, 5); (6, .95) by (5, .9); (1, 12) by (1, 10);
+    # the second (4, 1) duplicates the first.
+    assert chart.pareto_front(POINTS) == [0, 1, 2, 3, 5]
+
+
+def test_lower_hull_known_points():
+    # (3, 4.5) is efficient but above the segment (2, 5)-(4, 1): not on the hull.
+    assert chart.lower_hull(POINTS) == [0, 1, 3, 5]
+
+
+def test_hull_drops_collinear_and_handles_degenerate_input():
+    assert chart.lower_hull([(0, 2), (1, 1), (2, 0)]) == [0, 2]
+    assert chart.pareto_front([]) == [] and chart.lower_hull([]) == []
+    assert chart.lower_hull([(1, 1)]) == [0]
+    assert chart.pareto_front([(1, math.nan), (2, 3)]) == [1]
+
+
+def test_hull_points_minimise_a_weighted_sum():
+    rng = np.random.default_rng(5)
+    pts = [tuple(p) for p in rng.uniform(0, 10, (40, 2))]
+    hull = set(chart.lower_hull(pts))
+    for w in np.linspace(0.01, 0.99, 25):
+        best = min(range(len(pts)), key=lambda i: w * pts[i][0] + (1 - w) * pts[i][1])
+        assert best in hull
+
+
+def test_frontier_in_log_coordinates():
+    pts = [{"x": 1, "y": 1000}, {"x": 2, "y": 10}, {"x": 3, "y": 1}, {"x": 2.5, "y": 0}]
+    front, hull = chart.frontier(pts, log_y=True)  # y = 0 is drawn at FLOOR
+    assert front == [0, 1, 3] and hull[0] == 0 and hull[-1] == 3
+
+
+def test_chart_written(tmp_path):
+    panels = {
+        "exp2": [{"x": 0.5, "y": 30, "label": "f w16", "family": "ours full", "width": 16, "fma": True,
+                  "conforming": True},
+                 {"x": 0.4, "y": 1000, "label": "r w16", "family": "ours relaxed", "width": 16,
+                  "fma": False, "conforming": True},
+                 {"x": 0.7, "y": 1, "label": "np", "family": "numpy", "width": None, "fma": None,
+                  "conforming": False}],
+        "log2": [{"x": 0.6, "y": 0.4, "label": "f w8", "family": "ours full", "width": 8, "fma": True,
+                  "conforming": True}],
+    }
+    for error in ("ulp", "margin"):
+        paths = chart.draw(panels, str(tmp_path / f"c-{error}"), error=error)
+        assert [p.rsplit(".", 1)[1] for p in paths] == ["png", "svg"]
+        for p in paths:
+            with open(p, "rb") as f:
+                head = f.read(64)
+            assert len(head) == 64
+        assert open(paths[0], "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+        assert b"<svg" in open(paths[1], "rb").read()
+
+
+# -- clock ----------------------------------------------------------------------------------
+
+def test_clock_calibration_is_plausible():
+    cal = clock.calibrate(ops=1 << 16, repeats=7)
+    assert 0.5 < cal.ghz < 7.0
+    # Two chains of different latency agree when the latency table is right.
+    assert cal.check_ghz == pytest.approx(cal.ghz, rel=0.2)
+    assert set(cal.to_json()) >= {"ghz", "op", "latency_cycles", "check_ghz"}
+
+
+def test_cpu_model_reads_the_family():
+    info = clock.cpu_model()
+    assert "llvm_cpu" in info and "known" in info
+
+
+# -- model ----------------------------------------------------------------------------------
+
+def test_model_classes_share_pipes():
+    # 10 FMAs and 10 multiplies share FP0/FP1: 20 slots over 2 pipes.
+    b = model._pipe_bounds({"fma": 10, "fmul": 10}, model.ZEN4)
+    assert max(b.values()) == pytest.approx(10.0)
+    # FMAs (FP0/FP1) and adds (FP2/FP3) do not compete.
+    b = model._pipe_bounds({"fma": 10, "fadd": 10}, model.ZEN4)
+    assert max(b.values()) == pytest.approx(5.0)
+    # A square root keeps FP1 busy for 5 cycles per 256-bit half.
+    b = model._pipe_bounds({"sqrt": 2}, model.ZEN4)
+    assert max(b.values()) == pytest.approx(10.0)
+
+
+def test_window_bound_and_verdicts():
+    import routines
+    u = routines.jit("exp2", "full", True, 8)
+    w = report.window_bound(u)
+    assert w["fp_ops"] > 5 and w["cycles_per_vector"] > 0
+    assert report.gap_verdict(5.0, 4.0, 1.0)[0] == "met"
+    assert report.gap_verdict(9.0, 4.0, 8.0)[0] == "window"
+    assert report.gap_verdict(9.0, 4.0, 1.0, 8.0)[0] == "memory"
+    assert report.gap_verdict(7.0, 4.0, 4.0)[0] == "pipes+window"
+    assert report.gap_verdict(20.0, 4.0, 4.0)[0] == "unexplained"
+    # a probe that saw 70% of the FMA pipes explains a pipe-bound kernel at 1.6x
+    assert report.gap_verdict(6.4, 4.0, 1.0, pipe_factor=0.7)[0] == "pipes (shared core)"
+
+
+# -- peers and harness ------------------------------------------------------------------------
+
+def test_missing_peer_library_is_absent():
+    ps = peers.peers(["exp2", "pow"], {"sleef": "libsleef-not-here.so.9"})
+    sleef = [p for p in ps if p.family == "sleef"]
+    assert len(sleef) == 4
+    for p in sleef:
+        assert not p.present and p.to_json()["status"] == "absent"
+        assert "not installed" in p.reason
+    assert next(p for p in ps if p.key == "numpy exp2").present
+
+
+def test_timing_same_inputs_and_passes():
+    cands = [timing.Candidate("np", "exp2", np.exp2), timing.Candidate("np2", "exp2", np.exp2)]
+    res = timing.time_candidates(cands, "L1", 1024, 2, 3.0)
+    assert [t.key for t in res] == ["np", "np2"]
+    assert all(t.best_ns > 0 and t.passes >= 1 and t.threads == 1 for t in res)
+    a, b = timing.inputs("pow", 64), timing.inputs("pow", 64)
+    assert all(np.array_equal(x, y) for x, y in zip(a, b))
+
+
+# -- the report, tiny -------------------------------------------------------------------------
+
+def test_report_tiny(tmp_path):
+    r = report.run(("exp2",), sizes={"L2": 4096}, rounds={"L2": 2}, samples=2 ** 10, threads2=False,
+                   progress=False, libraries={"sleef": "libsleef-not-here.so.9"}, calibrate_ops=1 << 14)
+    data = json.loads(json.dumps(report.to_json(r)))
+    assert set(data) >= {"version", "machine", "settings", "clock", "load", "variants", "peers",
+                         "floors", "probes", "machine_state", "targets", "seconds"}
+    state = data["machine_state"]["L2"]
+    assert 0 < state["pipe_factor"] <= 1 and 0 < state["window"] <= report.FP_SCHEDULER
+    assert len(data["variants"]) == 2 * 2 * 3
+    v = data["variants"][0]
+    assert set(v) >= {"key", "func", "precision", "fma", "width", "model", "accuracy", "timing", "gap"}
+    assert v["timing"]["L2"]["1"]["cycles_per_element"] > 0
+    assert set(v["model"]) >= {"cycles_per_vector", "window_cycles_per_vector", "bottleneck"}
+    assert {"max_ulp32", "max_margin", "conforming", "full_margin"} <= set(v["accuracy"])
+    statuses = {p["key"]: p["status"] for p in data["peers"]}
+    assert statuses["sleef exp2 u10"] == "absent" and statuses["numpy exp2"] == "present"
+    numpy_peer = next(p for p in data["peers"] if p["key"] == "numpy exp2")
+    assert numpy_peer["accuracy"]["verdict"]["class"] in ("highp", "relaxed", "neither")
+    names = [t["target"] for t in data["targets"]]
+    assert any("exp2 full" in n for n in names) and any("two cores" in n for n in names)
+    text = report.print_table(r)
+    assert "exp2" in text and "absent" in text and "Targets" in text
+    paths = chart.draw(report.chart_panels(data), str(tmp_path / "chart"))
+    assert all((tmp_path / p.rsplit("/", 1)[1]).stat().st_size > 1000 for p in paths)
