@@ -10,7 +10,7 @@ from .dsl.function import Function, Library, Module, Routine, function
 from .dsl.intrinsics import (
     Abs, All, Any, As, Ceil, CopySign, Exponent, Extract, Floor, Fma, Fract, Insert, IsFinite,
     IsInf, IsNan, LaneIndex, Max, MaxNum, Min, MinNum, MulAdd, RcpApprox, Round, RsqrtApprox, Select, Significand,
-    ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc, fma_mode,
+    ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc, fma_mode, target_features,
 )
 from .dsl.signature import SIMD, Pointer
 from .dsl.types import KINDS, WIDTHS

@@ -19,12 +19,22 @@ or 3/8 of a binary16 ULP.
 sqrt: full precision is the correctly rounded hardware square root; relaxed is
 x * rsqrt_estimate(x), with ±0 and +inf (where that product is 0 * inf) passed
 through.
+
+The estimates are used only on AVX-512 targets: RCP14/RSQRT14 handle
+subnormal inputs and results. The older RCPPS/RSQRTPS treat subnormal inputs
+as zero and flush tiny results, which breaks both precisions at the edges, so
+on other targets these routines divide and take square roots exactly
+(correct everywhere, slower).
 """
 from __future__ import annotations
 
-from reactor import IsNan, MulAdd, RcpApprox, RsqrtApprox, Select, Sqrt
+from reactor import IsNan, MulAdd, RcpApprox, RsqrtApprox, Select, Sqrt, target_features
 
 from .base import float_value, routine
+
+
+def _estimates_exact_at_edges() -> bool:
+    return "avx512f" in target_features()
 
 
 def _keep_estimate_where_nan(estimate, refined):
@@ -35,6 +45,8 @@ def _keep_estimate_where_nan(estimate, refined):
 def rcp(x, precision: str = "full"):
     """1/x: IEEE specials (1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN)."""
     x = float_value(x, "rcp")
+    if not _estimates_exact_at_edges():
+        return (1.0 / x).named("rcp")
     r = RcpApprox(x)
     if precision == "relaxed":
         return r.named("rcp")
@@ -46,6 +58,8 @@ def rcp(x, precision: str = "full"):
 def rsqrt(x, precision: str = "full"):
     """1/sqrt(x): ±0 -> ±inf, +inf -> +0, x < 0 -> NaN, NaN -> NaN."""
     x = float_value(x, "rsqrt")
+    if not _estimates_exact_at_edges():
+        return (1.0 / Sqrt(x)).named("rsqrt")
     r = RsqrtApprox(x)
     if precision == "relaxed":
         return r.named("rsqrt")
@@ -57,7 +71,7 @@ def rsqrt(x, precision: str = "full"):
 def sqrt(x, precision: str = "full"):
     """sqrt(x): ±0 -> ±0, +inf -> +inf, x < 0 -> NaN, NaN -> NaN."""
     x = float_value(x, "sqrt")
-    if precision == "full":
+    if precision == "full" or not _estimates_exact_at_edges():
         return Sqrt(x).named("sqrt")
     s = x * RsqrtApprox(x)
     return Select(IsNan(s) & (x >= 0.0), x, s).named("sqrt")

@@ -219,6 +219,11 @@ def _features():
     return get_target(_em.current().options.target).feature_set
 
 
+def target_features() -> frozenset[str]:
+    """The CPU features of the build in progress (e.g. to choose an algorithm at build time)."""
+    return _features()
+
+
 def _require_float(name: str, x):
     if not isinstance(x, Value) or x.kind.name != "Float":
         raise DSLTypeError(f"{name} is defined for Float values (any width), not {x!r}")
@@ -231,7 +236,9 @@ def _native(name: str, x, natives):
 
 def RcpApprox(x):
     """Hardware estimate of 1/x: RCP14 (relative error < 2^-14) with AVX-512,
-    RCPPS (< 1.5 * 2^-12) otherwise. 1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN."""
+    RCPPS (< 1.5 * 2^-12) otherwise. 1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN.
+    RCP14 handles subnormal inputs and results; RCPPS treats subnormal inputs
+    as zero and flushes results below 2^-126 (check ``target_features()``)."""
     _require_float("RcpApprox", x)
     em = _em.current()
     return value_class(x.vtype)._wrap(ops.estimate(em, "rcp", x.vtype, x.ir, _features()), em)
@@ -239,7 +246,8 @@ def RcpApprox(x):
 
 def RsqrtApprox(x):
     """Hardware estimate of 1/sqrt(x): RSQRT14 (< 2^-14) with AVX-512, RSQRTPS
-    (< 1.5 * 2^-12) otherwise. ±0 -> ±inf, +inf -> +0, x < 0 -> NaN."""
+    (< 1.5 * 2^-12) otherwise. ±0 -> ±inf, +inf -> +0, x < 0 -> NaN.
+    RSQRTPS treats subnormal inputs as zero (-> inf); RSQRT14 does not."""
     _require_float("RsqrtApprox", x)
     em = _em.current()
     return value_class(x.vtype)._wrap(ops.estimate(em, "rsqrt", x.vtype, x.ir, _features()), em)
@@ -248,19 +256,24 @@ def RsqrtApprox(x):
 def Fract(x):
     """``x - Floor(x)`` in [0, 1) for finite ``x`` (one AVX-512DQ VREDUCEPS).
 
-    The difference is exact except for tiny negative ``x``, where it would
-    round up to 1: the result is then 1 - 2^-24, the largest float below 1
-    (what VREDUCEPS returns; the portable path clamps to match).
-    ``Fract(±inf) = 0``, ``Fract(NaN) = NaN``; a zero result may be -0.0."""
+    The difference is rounded toward -inf, as VREDUCEPS does (its rounding
+    control, "down", applies to the subtraction too): it is exact except for
+    -0.5 < x < 0, where the result is the float just below 1 + x (never 1; at
+    most 1 - 2^-24), and an exact zero is -0.0 (integral ``x``).
+    ``Fract(±inf) = +0``, ``Fract(NaN) = NaN``. The portable path computes the
+    same bits: the difference rounded to nearest, its rounding error (exact,
+    by Fast2Sum, where it is not zero), then one step down if it rounded up."""
     _require_float("Fract", x)
     natives = ops.avx512_natives(_features(), "reduce", imm=1, need="avx512dq")
     if natives:
         return _native("fract", x, natives)
-    below_one = Min(_BELOW_ONE, x - Floor(x))  # constant first: NaN propagates
-    return Select(IsInf(x), 0.0, below_one).named("fract")
-
-
-_BELOW_ONE = 1.0 - 2.0 ** -24
+    from .values import vector_type
+    f = Floor(x)
+    s = x - f
+    below = As(vector_type("Float", x.width), As(vector_type("Int", x.width), s) - 1)  # s > 0 where used
+    r = Select(x - (s + f) < 0.0, below, s)  # rounded up: take the float below
+    r = Select(s == 0.0, -0.0, r)
+    return Select(IsInf(x), 0.0, r).named("fract")
 
 
 _MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000

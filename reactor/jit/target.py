@@ -34,9 +34,10 @@ class Target:
 
     @functools.cached_property
     def feature_set(self) -> frozenset[str]:
+        """Every feature code for this target may use (the CPU's, implied ones included)."""
         if self.name == "host":
             return _host_features()
-        return frozenset(self.required)
+        return frozenset(_FORCED[self.name][2])
 
     @property
     def natural_width(self) -> int:
@@ -72,12 +73,17 @@ def _host_features() -> frozenset[str]:
     return frozenset(k for k, v in llvm.get_host_cpu_features().items() if v)
 
 
-# Forced targets: (cpu, required features). LLVM derives the feature set from
-# the CPU name; "required" is what the host must have to run the code.
+# Forced targets: (cpu, required features, every feature the CPU implies). LLVM
+# derives its feature set from the CPU name; "required" is what the host must
+# have to run the code; the implied set is what the DSL may use (estimates,
+# AVX-512 instructions) and must match what LLVM enables for that CPU.
+_SSE4 = ("sse", "sse2", "sse3", "ssse3", "sse4.1", "sse4.2", "popcnt", "cx16")
+_AVX2 = _SSE4 + ("avx", "avx2", "fma", "f16c", "bmi", "bmi2", "lzcnt", "movbe")
+_AVX512 = _AVX2 + ("avx512f", "avx512vl", "avx512bw", "avx512dq", "avx512cd")
 _FORCED = {
-    "avx512": ("skylake-avx512", ("avx512f", "avx512vl", "avx512bw", "avx512dq", "avx2", "fma")),
-    "avx2": ("haswell", ("avx2", "fma")),
-    "sse4": ("nehalem", ("sse4.1", "sse4.2")),
+    "avx512": ("skylake-avx512", ("avx512f", "avx512vl", "avx512bw", "avx512dq", "avx2", "fma"), _AVX512),
+    "avx2": ("haswell", ("avx2", "fma"), _AVX2),
+    "sse4": ("nehalem", ("sse4.1", "sse4.2"), _SSE4),
 }
 
 TARGETS = ("host",) + tuple(_FORCED)
@@ -93,5 +99,5 @@ def get_target(name: str = "host") -> Target:
         return Target("host", triple, llvm.get_host_cpu_name(), feats, ())
     if name not in _FORCED:
         raise ReactorError(f"unknown target {name!r}; choose one of {', '.join(TARGETS)}")
-    cpu, required = _FORCED[name]
+    cpu, required, _ = _FORCED[name]
     return Target(name, triple, cpu, "", required)

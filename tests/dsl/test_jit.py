@@ -194,3 +194,20 @@ def test_concurrent_memo_of_one_body():
     x = np.arange(33, dtype=np.float32)
     for u in out:
         assert_bits_equal(u(x), x * np.float32(8.5) + 1)
+
+
+def test_forced_targets_use_their_own_estimate_instructions():
+    """avx2/sse4 builds use RSQRTPS (12 bits), AVX-512 builds RSQRT14: never a silent exact division."""
+    import numpy as np
+
+    from reactor import Float, RsqrtApprox, kernel, kernel_of
+    x = np.linspace(0.5, 4, 4096, dtype=np.float32)
+    exact = 1 / np.sqrt(x.astype(np.float64))
+    for target, instruction, bound in [("avx2", "vrsqrtps", 1.5 * 2 ** -12), ("sse4", "rsqrtps", 1.5 * 2 ** -12),
+                                       ("avx512", "vrsqrt14ps", 2 ** -14)]:
+        @kernel(target=target, name=f"est_{target}")
+        def est(v: Float) -> Float:
+            return RsqrtApprox(v)
+        assert instruction in kernel_of(est).assembly
+        err = np.abs(est(x) / exact - 1).max()
+        assert 2 ** -20 < err < bound, (target, err)
