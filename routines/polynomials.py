@@ -77,6 +77,7 @@ EXP2_FULL = Polynomial(
     provenance="reference write-up, section 'Gaining Significance' (LolRemez --float -d 4 -r 0:1 "
                "\"(2^x-x-1)/x\" \"1/x\"); our fitter's 8-digit p(x) line matches these digits exactly "
                "(rounded straight to float32, one coefficient is 1 ulp away: LolRemez's double rounding)",
+    measured='exhaustive, all 2^32 inputs, compiled kernel: max margin 0.632 (FMA on) / 0.662 (off), max ULP-32 33.09 (at x = 96.76, where the tolerance is 196.5 ULP), 0 non-conforming; `python -m routines accuracy exp2 --precision full --fma on --exhaustive`'
 )
 
 EXP2_RELAXED = Polynomial(
@@ -85,6 +86,7 @@ EXP2_RELAXED = Polynomial(
     coefficients=("7.8145574e-2", "2.2617357e-1", "-3.0444314e-1"),
     provenance="reference write-up, section 'Relaxing with a Halfling': the degree-2 fit of "
                "(2^x-1)/x with weight 1/x, constant term minus 1 (exact in decimal)",
+    measured='exhaustive, all 2^32 inputs: max margin 0.131 (FMA on) / 0.127 (off), max ULP-16 0.139 / 0.131, 0 non-conforming; `python -m routines accuracy exp2 --precision relaxed --fma on --exhaustive`'
 )
 
 LOG2_FULL = Polynomial(
@@ -95,6 +97,7 @@ LOG2_FULL = Polynomial(
     provenance="reference write-up, section 'Second Try' (LolRemez --float -d 7 -r 0:1 "
                "\"(log2(x+1)-x)/x\" \"1/x\"); our fitter's 8-digit p(x) line matches these digits exactly "
                "(rounded straight to float32, three coefficients are 1 ulp away: LolRemez's double rounding)",
+    measured='exhaustive, all 2^32 inputs: max margin 0.502 (FMA on) / 0.565 (off), 0 non-conforming, 0 special mismatches; `python -m routines accuracy log2 --precision full --fma on --exhaustive`'
 )
 
 LOG2_RELAXED = Polynomial(
@@ -107,6 +110,7 @@ LOG2_RELAXED = Polynomial(
                "just below them (the reference's degree-2 fit is 7.7e-4 off at m = 1, which made "
                "log2(0.99999994) positive and pow(0.99999994, -inf) = +0). Same 3 FMAs; weighted "
                "error 8.8e-4 (absolute, the product) against the reference's 7.7e-4",
+    measured='exhaustive, all 2^32 inputs: max margin 0.300 (FMA on and off), max ULP-16 42.6 near x = 1 (absolute tolerance there), 0 non-conforming; `python -m routines accuracy log2 --precision relaxed --fma on --exhaustive`'
 )
 
 LOG2_RELAXED_REFERENCE = Polynomial(
