@@ -20,11 +20,14 @@ and ``where=``. The example
 from __future__ import annotations
 
 import argparse
-import io
 import os
+import sys
 import time
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # the examples' common.py, however run
+from common import save_png  # noqa: E402
 
 import reactor
 import routines
@@ -153,8 +156,6 @@ def save_figure(r: dict, path: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from PIL import Image
-
     sweep, image = r["images"]
     fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.5), dpi=90, gridspec_kw={"width_ratios": [1, 1.25]})
     im = axes[0].imshow(sweep, origin="upper", extent=(0.25, 1.0, 1.2, 0.0), aspect="auto", cmap="magma")
@@ -170,11 +171,7 @@ def save_figure(r: dict, path: str) -> None:
     axes[1].set_title(f"{len(LIGHTS)} lights: (5, H, W) against (5, 1, 1), summed", fontsize=9)
     axes[1].axis("off")
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", facecolor="white")
-    plt.close(fig)
-    buf.seek(0)
-    Image.open(buf).convert("RGB").save(path, optimize=True)
+    save_png(fig, path)
 
 
 def main(argv=None) -> dict:

@@ -27,9 +27,12 @@ from __future__ import annotations
 
 import argparse
 import os
-import time
+import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # the examples' common.py, however run
+from common import best_time, save_png  # noqa: E402
 
 import reactor
 import routines
@@ -126,17 +129,6 @@ def vignette(shape) -> np.ndarray:
 
 # --- measuring ---------------------------------------------------------------------------------
 
-def best_time(fn, *args, repeat: int = 5) -> float:
-    """The best of ``repeat`` calls, in milliseconds (one warm-up call first)."""
-    fn(*args)
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn(*args)
-        best = min(best, time.perf_counter() - t0)
-    return best * 1e3
-
-
 def compare(encoded: np.ndarray, exact: np.ndarray) -> dict:
     """A method's encoded output (float, [0, 1]) against the exact value (float64, [0, 1]):
     pixels whose 8-bit codes differ from the correctly rounded ones (any channel), channel
@@ -221,18 +213,6 @@ def report(results: dict) -> str:
     return "\n".join(lines)
 
 
-def save_png(fig, path: str) -> None:
-    """Save a matplotlib figure as an optimized RGB PNG (smaller than matplotlib's RGBA)."""
-    import io
-
-    from PIL import Image
-
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", facecolor="white")
-    buf.seek(0)
-    Image.open(buf).convert("RGB").save(path, optimize=True)
-
-
 def save_figure(results: dict, path: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
@@ -257,7 +237,6 @@ def save_figure(results: dict, path: str) -> None:
         ax.axis("off")
     fig.tight_layout()
     save_png(fig, path)
-    plt.close(fig)
 
 
 def _numbers(d):

@@ -20,9 +20,13 @@ import contextlib
 import difflib
 import io
 import os
+import sys
 import re
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # the examples' common.py, however run
+from common import save_png  # noqa: E402
 
 import reactor
 import routines
@@ -155,8 +159,6 @@ def save_figure(r: dict, path: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from PIL import Image
-
     on, off = r["body"]["on"], r["body"]["off"]
     fig = plt.figure(figsize=(10.0, 3.8), dpi=90)
     grid = fig.add_gridspec(1, 3, width_ratios=[0.9, 0.9, 1.1])
@@ -196,11 +198,7 @@ def save_figure(r: dict, path: str) -> None:
     ax.set_ylim(0, 4.6)
     ax.legend(fontsize=6.5, loc="upper center", ncol=2)
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", facecolor="white")
-    plt.close(fig)
-    buf.seek(0)
-    Image.open(buf).convert("RGB").save(path, optimize=True)
+    save_png(fig, path)
 
 
 def main(argv=None) -> dict:

@@ -23,9 +23,12 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import time
+import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # the examples' common.py, however run
+from common import best_time, save_png, to_codes  # noqa: E402
 
 import reactor
 import routines
@@ -151,20 +154,6 @@ def stencil(z: np.ndarray, dx: float, dy: float):
     return inner, west, east, south, north, x.astype(np.float32), y.astype(np.float32)
 
 
-def best_time(fn, *args, repeat: int = 5) -> float:
-    fn(*args)
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn(*args)
-        best = min(best, time.perf_counter() - t0)
-    return best * 1e3
-
-
-def to_codes(rgb) -> np.ndarray:
-    return np.rint(np.clip(np.stack(rgb, axis=-1).astype(np.float64), 0, 1) * 255).astype(np.uint8)
-
-
 VARIANTS = {                     # name: (pow and encode precision, rsqrt precision)
     "full": ("full", "full"),
     "relaxed": ("relaxed", "relaxed"),
@@ -234,13 +223,10 @@ def report(r: dict) -> str:
 
 
 def save_figure(r: dict, path: str) -> None:
-    import io
 
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from PIL import Image
-
     full, relaxed = r["codes"]["full"], r["codes"]["relaxed"]
     d = np.abs(full.astype(np.int16) - relaxed).max(axis=-1)
     fig, axes = plt.subplots(1, 2, figsize=(8.0, 3.9), dpi=90,
@@ -255,11 +241,7 @@ def save_figure(r: dict, path: str) -> None:
     for ax in axes:
         ax.axis("off")
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", facecolor="white")
-    plt.close(fig)
-    buf.seek(0)
-    Image.open(buf).convert("RGB").save(path, optimize=True)
+    save_png(fig, path)
 
 
 def main(argv=None) -> dict:

@@ -21,11 +21,13 @@ luminance and the tone-mapped result.
 from __future__ import annotations
 
 import argparse
-import io
 import os
-import time
+import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # the examples' common.py, however run
+from common import best_time, save_png, to_codes  # noqa: E402
 
 import reactor
 import routines
@@ -114,20 +116,6 @@ def hdr_scene(h: int = 432, w: int = 768) -> np.ndarray:
     return img.astype(np.float32)
 
 
-def best_time(fn, *args, repeat: int = 5) -> float:
-    fn(*args)
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn(*args)
-        best = min(best, time.perf_counter() - t0)
-    return best * 1e3
-
-
-def to_codes(rgb) -> np.ndarray:
-    return np.rint(np.clip(np.stack(rgb, axis=-1).astype(np.float64), 0, 1) * 255).astype(np.uint8)
-
-
 def run(repeat: int = 5) -> dict:
     img = hdr_scene()
     r, g, b = img
@@ -183,8 +171,6 @@ def save_figure(r: dict, path: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from PIL import Image
-
     img = r["scene"]
     lum = img[0] * LUMA[0] + img[1] * LUMA[1] + img[2] * LUMA[2]
     exposure = KEY / r["log_average_luminance"]["float64"]
@@ -202,11 +188,7 @@ def save_figure(r: dict, path: str) -> None:
     for ax in axes:
         ax.axis("off")
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", facecolor="white")
-    plt.close(fig)
-    buf.seek(0)
-    Image.open(buf).convert("RGB").save(path, optimize=True)
+    save_png(fig, path)
 
 
 def main(argv=None) -> dict:

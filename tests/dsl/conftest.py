@@ -6,24 +6,9 @@ user's ``~/.cache/reactor``.
 """
 from __future__ import annotations
 
-import os
 
 import numpy as np
 import pytest
-
-
-@pytest.fixture(scope="session", autouse=True)
-def _private_disk_cache(tmp_path_factory):
-    """A session-wide private disk cache directory."""
-    saved = {k: os.environ.get(k) for k in ("REACTOR_CACHE_DIR", "REACTOR_CACHE")}
-    os.environ["REACTOR_CACHE_DIR"] = str(tmp_path_factory.mktemp("reactor-cache"))
-    os.environ.pop("REACTOR_CACHE", None)
-    yield
-    for k, v in saved.items():
-        if v is None:
-            os.environ.pop(k, None)
-        else:
-            os.environ[k] = v
 
 
 @pytest.fixture

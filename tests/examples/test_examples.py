@@ -9,7 +9,6 @@ from __future__ import annotations
 import contextlib
 import importlib.util
 import io
-import os
 import pathlib
 
 import pytest
@@ -27,20 +26,6 @@ def _host_has(feature: str) -> bool:
 # Relaxed rsqrt and sqrt are the hardware estimate: RSQRT14 (< 2^-14) with AVX-512, RSQRTPS
 # (< 1.5 * 2^-12) elsewhere. The bounds that depend on it are the ones measured with AVX-512.
 AVX512 = _host_has("avx512f")
-
-
-@pytest.fixture(scope="module", autouse=True)
-def _private_disk_cache(tmp_path_factory):
-    """Compile into a private object cache: the suite neither reads nor fills ~/.cache/reactor."""
-    saved = {k: os.environ.get(k) for k in ("REACTOR_CACHE_DIR", "REACTOR_CACHE")}
-    os.environ["REACTOR_CACHE_DIR"] = str(tmp_path_factory.mktemp("reactor-cache-examples"))
-    os.environ.pop("REACTOR_CACHE", None)
-    yield
-    for k, v in saved.items():
-        if v is None:
-            os.environ.pop(k, None)
-        else:
-            os.environ[k] = v
 
 
 def load(name: str):
