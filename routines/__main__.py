@@ -20,6 +20,7 @@ COMMANDS = {
     "chart": "routines.cli.chart",
     "report": "routines.cli.report",
     "docs": "routines.cli.docs",
+    "search": "routines.cli.search",
 }
 
 
