@@ -42,7 +42,8 @@ def main(argv: list[str]) -> int:
         with open(source, "w") as f:
             json.dump(data, f, indent=1)
     name = args.name or ("chart" if args.error == "ulp" else "chart-margin")
-    paths = chart.draw(report.chart_panels(data, args.error), os.path.join(args.out, name), error=args.error,
+    panels = report.chart_panels(data, args.error, search_dir=os.path.join(args.out, "search"))
+    paths = chart.draw(panels, os.path.join(args.out, name), error=args.error,
                        title=f"cost vs {'max ULP-32' if args.error == 'ulp' else 'max margin'} "
                              f"({data['machine'].get('llvm_cpu')}, {data['clock']['ghz']:.2f} GHz)")
     print("wrote " + ", ".join(paths))

@@ -47,7 +47,8 @@ def main(argv: list[str]) -> int:
     os.makedirs(args.out, exist_ok=True)
     paths = []
     for error, name in (("ulp", "chart"), ("margin", "chart-margin")):
-        paths += chart.draw(report.chart_panels(result, error), os.path.join(args.out, name), error=error,
+        panels = report.chart_panels(result, error, search_dir=os.path.join(args.out, "search"))
+        paths += chart.draw(panels, os.path.join(args.out, name), error=error,
                             title=f"cost vs {'max ULP-32' if error == 'ulp' else 'max margin'} "
                                   f"({result['machine'].get('llvm_cpu')}, {result['clock']['ghz']:.2f} GHz)")
     result["chart"] = paths

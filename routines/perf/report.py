@@ -702,13 +702,33 @@ def print_table(report, size: str = "L2") -> str:
     return "\n".join(lines)
 
 
-def chart_panels(report, error: str = "ulp", size: str = "L2") -> dict[str, list[dict]]:
+def search_points(search_dir: str, ghz: float) -> dict[str, list[dict]]:
+    """The variant search's full-precision Pareto candidates (``python -m routines search
+    ... --json out/search/F_full.json``) as margin-chart points: x = their measured
+    ns/element at this run's clock, y = their max margin against the highp tolerance."""
+    import glob
+    import json
+    panels: dict[str, list[dict]] = {}
+    for path in sorted(glob.glob(os.path.join(search_dir, "*_full.json"))):
+        with open(path) as f:
+            points = json.load(f)
+        for p in points:
+            if p.get("pareto") and p.get("admissible") and p.get("ns_per_element") and not p["candidate"].get("production"):
+                panels.setdefault(p["function"], []).append({
+                    "x": p["ns_per_element"] * ghz, "y": _f(p["max_margin"]),
+                    "label": "search " + p["name"].split(".", 2)[-1], "family": "search",
+                    "width": 16, "fma": p["fma"], "conforming": p["conforming"]})
+    return panels
+
+
+def chart_panels(report, error: str = "ulp", size: str = "L2", search_dir: str | None = None) -> dict[str, list[dict]]:
     """Points for :func:`routines.perf.chart.draw`, per function.
 
     ``error="ulp"``: max ULP-32; ``"margin"``: max margin against the *full*
     (highp) tolerance for every point (relaxed variants measured on the sample
     for this), so that one axis serves all. Non-conforming: ours against their
-    own precision, peers meeting neither tolerance."""
+    own precision, peers meeting neither tolerance. With ``search_dir`` the margin
+    chart also shows the variant search's full-precision Pareto candidates."""
     panels: dict[str, list[dict]] = {f: [] for f in report["settings"]["functions"]}
     for v in report["variants"]:
         a = v.get("accuracy")
@@ -728,6 +748,10 @@ def chart_panels(report, error: str = "ulp", size: str = "L2") -> dict[str, list
         panels[p["func"]].append({"x": _cy(p, size), "y": y, "label": short, "family": p["family"],
                                   "width": None, "fma": None,
                                   "conforming": a["verdict"]["class"] != "neither"})
+    if search_dir and error == "margin":
+        for func, points in search_points(search_dir, report["clock"]["ghz"]).items():
+            if func in panels:
+                panels[func] += points
     return panels
 
 
