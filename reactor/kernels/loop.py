@@ -45,9 +45,11 @@ class LoopEmitter:
         self.em = _em.FunctionEmitter(module, name, ir.VoidType(),
                                       [I8P.as_pointer(), I64.as_pointer(), I64.as_pointer(), I8P],
                                       ["args", "dims", "steps", "data"])
-        self.em.dsl_function = _KernelBody(name)
+        self.em.dsl_function = _KernelBody(name.removesuffix(".loop"))
 
     def emit(self) -> ir.Function:
+        from ..dsl.control import check_python_returns
+        check_python_returns(self.body)
         em = self.em
         with em:
             args, dims, steps, _ = em.function.args
@@ -279,6 +281,7 @@ def emit_dispatcher(module, name: str, serial: ir.Function) -> ir.Function:
     em = _em.FunctionEmitter(module, name, ir.VoidType(),
                              [I8P.as_pointer(), I64.as_pointer(), I64.as_pointer(), I8P],
                              ["args", "dims", "steps", "data"])
+    serial.attributes.add("noinline")  # else LLVM copies the whole loop here: twice the machine code
     loop_ty = serial.function_type
     cfg_ty = ir.LiteralStructType([I8P, loop_ty.as_pointer(), I64.as_pointer(), I64])
     with em:
