@@ -1,4 +1,5 @@
 """``python -m reactor dump TARGET [--what ir|opt|asm] [--fma on|off] [--width N] [--target T]``
+``python -m reactor fuzz --budget N [--seed S]`` (differential fuzzing; see docs/reliability.md)
 
 TARGET names what to print:
   routines:NAME          a kernel of the routine library, e.g. routines:exp2
@@ -63,7 +64,13 @@ def main(argv=None) -> int:
     dump.add_argument("--target", dest="cpu", help="code-generation target: host, avx512, avx2, sse4")
     dump.add_argument("--precision", choices=("full", "relaxed"), default="full")
     dump.add_argument("--opt", type=int, choices=(0, 1, 2, 3))
+    from .fuzz.runner import add_arguments as fuzz_arguments
+    fuzz = sub.add_parser("fuzz", help="differential fuzzing of the DSL against NumPy (docs/reliability.md)")
+    fuzz_arguments(fuzz)
     args = parser.parse_args(argv)
+    if args.command == "fuzz":
+        from .fuzz.runner import run as run_fuzz
+        return run_fuzz(args)
     fma = None if args.fma is None else args.fma == "on"
     try:
         with options(fma=fma, width=args.width, target=args.cpu, opt=args.opt):

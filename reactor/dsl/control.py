@@ -20,9 +20,11 @@ emitted code. ``Return(v)`` returns from the function being built.
 """
 from __future__ import annotations
 
+import functools
+
 from llvmlite import ir
 
-from ..errors import ControlFlowError, DSLTypeError, ScopeError
+from ..errors import ControlFlowError, DSLTypeError, ScopeError, user_location
 from ..ir import emitter as _em
 from .types import KINDS, VType
 from .values import Value, common_type, to_ir, value_class
@@ -46,9 +48,18 @@ class _Block:
 
     what = "block"
 
+    def _register(self):
+        """Note the block as created-but-not-entered (an error if the function ends so)."""
+        if _em.building():
+            self._created = user_location()
+            _em.current().unentered.append(self)
+
     def _open(self, em):
+        if self in em.unentered:
+            em.unentered.remove(self)
         self._em = em
         self._scope = em.push_scope(self.what)
+        self._scope.where = user_location()
         em.pending_chain = None
 
     def _close(self):
@@ -65,6 +76,7 @@ class If(_Block):
 
     def __init__(self, cond):
         self._cond = cond
+        self._register()
 
     def __enter__(self):
         em = _em.current()
@@ -122,6 +134,9 @@ class Else(_Block):
 
     what = "Else"
 
+    def __init__(self):
+        self._register()
+
     def __enter__(self):
         em, else_block, merge = _claim_chain("Else")
         em.reopen(else_block)
@@ -152,6 +167,7 @@ class While(_Block):
             raise DSLTypeError("While needs a condition that is re-evaluated every iteration: "
                                "pass a lambda, e.g. While(lambda: i < n), or a Bool Variable")
         self._cond = cond
+        self._register()
 
     def _test(self):
         return self._cond() if callable(self._cond) else self._cond
@@ -188,6 +204,7 @@ class For(_Block):
         if not isinstance(step, int) or isinstance(step, bool) or step == 0:
             raise DSLTypeError(f"For step must be a non-zero Python int, not {step!r}")
         self._start, self._stop, self._step = start, stop, step
+        self._register()
 
     def __enter__(self):
         em = _em.current()
@@ -254,3 +271,62 @@ def Return(value=None):
     if isinstance(value, Value) and (value.kind != expected.kind or value.width not in (1, expected.width)):
         raise DSLTypeError(f"Return of a {value.vtype.name} in '{fn.name}', which returns {expected.name}")
     em.ret(to_ir(value, expected))
+
+
+_BLOCK_NAMES = frozenset({"If", "Elif", "Else", "For", "While"})
+
+
+def check_python_returns(body) -> None:
+    """Refuse a Python ``return`` inside a ``with If/Elif/Else/For/While`` block of
+    ``body``: it ends the *build* there, so the value is returned on every path
+    at run time and the block's condition is silently ignored (``Return(v)``
+    returns at run time)."""
+    found = _returns_in_blocks(getattr(body, "__code__", None))
+    if found:
+        line, what = found
+        raise ControlFlowError(f"Python 'return' inside a '{what}' block returns while building, for every "
+                               f"run-time path (the {what} is ignored); use Return(value), or assign a "
+                               f"Variable in the block and return after it", location=line)
+
+
+@functools.lru_cache(maxsize=1024)
+def _returns_in_blocks(code):
+    """(location, block name) of the first ``return`` inside a run-time block, or None."""
+    import ast
+    import inspect
+    import textwrap
+
+    if code is None:
+        return None
+    try:
+        lines, start = inspect.getsourcelines(code)
+        tree = ast.parse(textwrap.dedent("".join(lines)))
+    except (OSError, TypeError, SyntaxError, IndentationError):
+        return None
+    fn = tree.body[0] if tree.body else None
+    if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+        return None
+
+    def block_name(node):
+        for item in node.items:
+            call = item.context_expr
+            if isinstance(call, ast.Call):
+                f = call.func
+                name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
+                if name in _BLOCK_NAMES:
+                    return name
+        return None
+
+    def search(node, inside):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+                continue
+            if isinstance(child, ast.Return) and inside:
+                return (code.co_filename, start + child.lineno - 1), inside
+            here = block_name(child) if isinstance(child, ast.With) else None
+            hit = search(child, here or inside)
+            if hit:
+                return hit
+        return None
+
+    return search(fn, None)

@@ -80,6 +80,8 @@ class Function:
         em.dsl_function = _Built(self.name, returns, params)
         module.functions[key] = em.function
         with em:
+            from .control import check_python_returns
+            check_python_returns(self.body)
             args = [PointerValue(p, a, em) if isinstance(p, PointerType) else value_class(p)._wrap(a, em)
                     for p, a in zip(params, em.function.args)]
             result = self.body(*args)
@@ -95,6 +97,7 @@ class Function:
                 em.position_at(block)
                 em.ret(None)
             em.finish()
+        module.written[key] = frozenset(k for k, a in enumerate(args) if isinstance(a, PointerValue) and a.written)
         return em.function
 
     def __call__(self, *args):
@@ -108,11 +111,14 @@ class Function:
             raise ArityError(f"'{self.name}' takes {len(self.signature.names)} argument(s), got {len(args)}")
         params, returns = self.signature.resolved(em.width, f"'{self.name}'")
         fn = self.declare_in(em.module, em.width)
+        written = em.module.written.get((self, em.width))  # None: still being built (recursion)
         irs = []
-        for name, p, a in zip(self.signature.names, params, args):
+        for k, (name, p, a) in enumerate(zip(self.signature.names, params, args)):
             if isinstance(p, PointerType):
                 if not isinstance(a, PointerValue) or a.ptype.pointee != p.pointee:
                     raise DSLTypeError(f"'{self.name}' parameter '{name}' needs a {p.name}, got {a!r}")
+                if written is None or k in written:
+                    a.written = True
                 irs.append(a._ptr()[1])
             else:
                 if isinstance(a, Value) and (a.kind != p.kind or a.width not in (1, p.width)):
@@ -187,7 +193,8 @@ class Module:
         mod, opts = self.build(**options)
         code = CompiledCode(str(mod.module), get_target(opts.target), opts.opt,
                             tuple(f.name + ENTRY_SUFFIX for f in self.functions), opts.cache, mod.imports)
-        return Library(code, {f.name: Routine(f, code, opts) for f in self.functions})
+        return Library(code, {f.name: Routine(f, code, opts, mod.written.get((f, opts.width), frozenset()))
+                              for f in self.functions})
 
 
 class Library(dict):
@@ -246,8 +253,9 @@ class Routine:
     elements. Vector results come back as NumPy arrays.
     """
 
-    def __init__(self, fn: Function, code, options: BuildOptions):
+    def __init__(self, fn: Function, code, options: BuildOptions, written: frozenset = frozenset()):
         self.function, self.code, self.options = fn, code, options
+        self.written = written  # indices of the pointer arguments the routine stores to
         self.name = fn.name
         self.params, self.returns = fn.signature.resolved(options.width, f"'{fn.name}'")
         self._entry = None
@@ -286,7 +294,7 @@ class Routine:
             if isinstance(p, VType) and p.width == 1:
                 scalars[name] = a
         for k, (name, p, a) in enumerate(zip(names, self.params, args)):
-            buf = _argument(self.name, name, p, a, scalars)
+            buf = _argument(self.name, name, p, a, scalars, k in self.written)
             keep.append(buf)  # the arrays must outlive the call
             ptrs[k] = buf.ctypes.data
         ret = None
@@ -298,7 +306,7 @@ class Routine:
         return ret[0].item() if self.returns.width == 1 else ret
 
 
-def _argument(routine: str, name: str, p, a, scalars) -> np.ndarray:
+def _argument(routine: str, name: str, p, a, scalars, written: bool = False) -> np.ndarray:
     """The NumPy array whose data ``argv[k]`` points to for parameter type ``p``:
     the argument's own array for pointers, a one-element copy for scalars."""
     where = f"routine '{routine}' argument '{name}'"
@@ -310,9 +318,14 @@ def _argument(routine: str, name: str, p, a, scalars) -> np.ndarray:
             raise ArgumentError(f"{where} must have dtype {vt.kind.dtype}, not {a.dtype}")
         if not a.flags.c_contiguous:
             raise ArgumentError(f"{where} must be C-contiguous (use np.ascontiguousarray)")
+        if written and not a.flags.writeable:
+            raise ArgumentError(f"{where} is read-only, but the routine stores to it")
         count = p.length if isinstance(p.length, int) else 1
         if isinstance(p.length, str):
-            count = int(scalars[p.length])
+            try:
+                count = int(scalars[p.length])
+            except (TypeError, ValueError):  # not a number: the scalar's own check reports it
+                count = 0
         need = max(count, 0) * vt.width
         if a.size < need:
             raise ArgumentError(f"{where} has {a.size} element(s) but the routine may access "

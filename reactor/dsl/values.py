@@ -106,6 +106,14 @@ class Value:
     def __index__(self):
         raise DSLTypeError(f"a {self.vtype.name} value cannot be used as a Python index or count")
 
+    def set(self, value):
+        raise DSLTypeError(f"a {self.vtype.name} value (an argument, constant or result) cannot be assigned "
+                           f"to: declare v = Variable({self.vtype.name}, ...) and use v.set(...)")
+
+    def __setitem__(self, index, value):
+        raise DSLTypeError(f"a {self.vtype.name} value cannot be changed in place: Insert(v, x, {index!r}) "
+                           f"gives a copy with lane {index!r} replaced")
+
     __hash__ = object.__hash__
 
 

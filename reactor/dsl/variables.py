@@ -102,10 +102,11 @@ class PointerValue:
     starting at element ``i`` of a scalar pointer as one vector (unaligned).
     """
 
-    __slots__ = ("ptype", "_ir", "_emitter")
+    __slots__ = ("ptype", "_ir", "_emitter", "written")
 
     def __init__(self, ptype: PointerType, value: ir.Value, em):
         self.ptype, self._ir, self._emitter = ptype, value, em
+        self.written = False  # stored through (here or by a called function): needs a writeable array
 
     def _ptr(self):
         em = _em.current()
@@ -140,6 +141,7 @@ class PointerValue:
     def _store(self, index, value, vt: VType):
         val = to_ir(value, vt)
         em, addr = self._address(index, vt.kind.mem_type)
+        self.written = True
         if vt.width > 1:
             addr = em.emit("bitcast", addr, vt.mem_ir.as_pointer(), name="vaddr")
         if vt.kind.category == "bool":

@@ -46,11 +46,12 @@ def building() -> bool:
 class Scope:
     """A lexical region (function body, branch, loop body) whose values die at its end."""
 
-    __slots__ = ("parent", "what", "closed", "chain")
+    __slots__ = ("parent", "what", "closed", "chain", "where")
 
     def __init__(self, parent: "Scope | None", what: str):
         self.parent, self.what, self.closed = parent, what, False
         self.chain = None  # for Elif/Else bodies: the merge block of their If chain
+        self.where = None  # (file, line) of the user's code that opened it
 
 
 class ModuleEmitter:
@@ -68,6 +69,7 @@ class ModuleEmitter:
         self.module.data_layout = str(target.machine.target_data)
         self.functions: dict[object, ir.Function] = {}
         self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
+        self.written: dict[object, frozenset] = {}  # (Function, width) -> pointer parameters it stores to
 
     def unique_name(self, base: str) -> str:
         names = {g.name for g in self.module.global_values}
@@ -112,6 +114,7 @@ class FunctionEmitter:
         self.ret_type = ret
         self.pending_chain = None  # (else_block, merge_block, mark) after an If/Elif
         self.dsl_function = None  # the reactor Function being built (set by its builder)
+        self.unentered: list = []  # blocks (If, For, ...) created but not yet entered with `with`
 
     # -- activation -----------------------------------------------------
     def __enter__(self):
@@ -217,9 +220,11 @@ class FunctionEmitter:
 
     def pop_scope(self, scope: Scope) -> None:
         if self.scope is not scope:
+            def at(sc):
+                return f" (opened at line {sc.where[1]})" if sc.where else ""
             raise ControlFlowError(
                 f"blocks closed out of order: the innermost open block is "
-                f"'{self.scope.what}', not '{scope.what}'"
+                f"'{self.scope.what}'{at(self.scope)}, not '{scope.what}'{at(scope)}"
             )
         scope.closed = True
         self.scope = scope.parent
@@ -229,6 +234,14 @@ class FunctionEmitter:
         """Close the body: blocks unreachable from the entry get ``unreachable``;
         return the reachable blocks that still lack a terminator (they fall off
         the end of the function)."""
+        if self.unentered:
+            blk = self.unentered[0]
+            name = type(blk).__name__
+            raise ControlFlowError(f"{name}(...) was created but never entered, so it has no effect: "
+                                   f"write 'with {name}(...):'", location=getattr(blk, "_created", None))
+        if self.scope is not self.root_scope:
+            raise ControlFlowError(f"'{self.scope.what}' block entered but never closed: use it in a "
+                                   f"'with' statement", location=self.scope.where)
         reachable, todo = set(), [self._entry]
         while todo:
             block = todo.pop()
