@@ -24,19 +24,6 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(skip)
 
 
-@pytest.fixture(scope="session", autouse=True)
-def _private_disk_cache(tmp_path_factory):
-    saved = {k: os.environ.get(k) for k in ("REACTOR_CACHE_DIR", "REACTOR_CACHE")}
-    os.environ["REACTOR_CACHE_DIR"] = str(tmp_path_factory.mktemp("reactor-cache"))
-    os.environ.pop("REACTOR_CACHE", None)
-    yield
-    for k, v in saved.items():
-        if v is None:
-            os.environ.pop(k, None)
-        else:
-            os.environ[k] = v
-
-
 @pytest.fixture
 def rng():
     return np.random.default_rng(20260611)
