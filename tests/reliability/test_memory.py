@@ -46,28 +46,32 @@ def test_10000_cycles_of_distinct_programs():
 
 
 def test_compiled_code_is_freed_with_its_routine():
-    gc.collect()
-    maps = exec_mappings()
-
+    """Dropping a routine or kernel frees its compiled code; repeated build/drop cycles do
+    not grow the executable mappings (their exact count depends on how the JIT's allocator
+    reuses pages after earlier tests, so only growth is checked)."""
     def body(x: Float) -> Float:
         return x * 3.0
 
-    f = Function(body, name="freed", cache=False)
-    assert f(2.0) == 6.0
-    code = weakref.ref(f.compile().code)
-    assert exec_mappings() > maps
-    del f
-    gc.collect()
-    assert code() is None and exec_mappings() == maps
+    def cycle(i):
+        f = Function(body, name=f"freed{i}", cache=False)
+        assert f(2.0) == 6.0
+        code = weakref.ref(f.compile().code)
+        u = kernel(body, name=f"freed_kernel{i}", cache=False)
+        assert u(np.float32(2)) == 6
+        kern, kcode = weakref.ref(kernel_of(u)), weakref.ref(kernel_of(u).code)
+        del f, u
+        gc.collect()
+        assert code() is None and kern() is None and kcode() is None
+        assert not any(ref() is not None and ref().name == f"freed_kernel{i}"
+                       for ref in kernel_module._registry.values())
 
-    u = kernel(body, name="freed_kernel", cache=False)
-    assert u(np.float32(2)) == 6
-    kern = weakref.ref(kernel_of(u))
-    code = weakref.ref(kernel_of(u).code)
-    del u
+    cycle(0)
     gc.collect()
-    assert kern() is None and code() is None and exec_mappings() == maps
-    assert not any(ref() is not None and ref().name == "freed_kernel" for ref in kernel_module._registry.values())
+    maps = exec_mappings()
+    for i in range(1, 21):
+        cycle(i)
+    gc.collect()
+    assert exec_mappings() <= maps + 2
 
 
 def test_the_memory_cache_is_bounded(monkeypatch):
