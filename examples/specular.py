@@ -20,7 +20,6 @@ NumPy's (the same formula in float32), and the largest difference between the
 """
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import sys
@@ -28,7 +27,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # the examples' common.py, however run
-from common import best_time, save_png, to_codes  # noqa: E402
+from common import best_time, save_png, timed_example_main, to_codes  # noqa: E402
 
 import reactor
 import routines
@@ -245,19 +244,7 @@ def save_figure(r: dict, path: str) -> None:
 
 
 def main(argv=None) -> dict:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", default=os.path.join("out", "examples"), help="output directory")
-    parser.add_argument("--repeat", type=int, default=5, help="timing repetitions (best is kept)")
-    args = parser.parse_args(argv)
-    r = run(repeat=args.repeat)
-    print(report(r))
-    os.makedirs(args.out, exist_ok=True)
-    path = os.path.join(args.out, "specular.png")
-    save_figure(r, path)
-    print(f"wrote {path}")
-    del r["codes"]
-    r["image"] = path
-    return r
+    return timed_example_main(argv, __doc__, "specular", run, report, save_figure, drop=("codes",))
 
 
 if __name__ == "__main__":

@@ -20,14 +20,13 @@ luminance and the tone-mapped result.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # the examples' common.py, however run
-from common import best_time, save_png, to_codes  # noqa: E402
+from common import best_time, save_png, timed_example_main, to_codes  # noqa: E402
 
 import reactor
 import routines
@@ -192,19 +191,7 @@ def save_figure(r: dict, path: str) -> None:
 
 
 def main(argv=None) -> dict:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", default=os.path.join("out", "examples"), help="output directory")
-    parser.add_argument("--repeat", type=int, default=5, help="timing repetitions (best is kept)")
-    args = parser.parse_args(argv)
-    r = run(repeat=args.repeat)
-    print(report(r))
-    os.makedirs(args.out, exist_ok=True)
-    path = os.path.join(args.out, "tonemap.png")
-    save_figure(r, path)
-    print(f"wrote {path}")
-    del r["codes"], r["scene"]
-    r["image"] = path
-    return r
+    return timed_example_main(argv, __doc__, "tonemap", run, report, save_figure, drop=("codes", "scene"))
 
 
 if __name__ == "__main__":
