@@ -19,22 +19,13 @@ chain of dependent additions (different latency, same method) is timed as a
 cross-check: the two GHz figures agree within a few percent when the latency
 table is right for this core.
 
-Latency table (cycles, scalar/vector float32, register operands):
-
-============  =======  ======  =============================================
-operation     Zen 4    Zen 3   source
-============  =======  ======  =============================================
-VFMADD*SS/PS  4        4       AMD "Software Optimization Guide for AMD
-                               Family 19h Processors" (pub. 56665), section
-                               "Floating-Point Unit": FMA latency 4; uops.info
-                               measurements for ZEN4 (VFMADD231SS xmm: 4)
-VADDSS/PS     3        3       same guide: FADD latency 3; uops.info ZEN4
-============  =======  ======  =============================================
-
-AMD family 25 (19h) covers Zen 3 (models 0x00-0x0f, 0x20-0x5f) and Zen 4
-(models 0x10-0x1f, 0x60-0x7f, 0xa0-0xaf); LLVM's host CPU name is ``znver3``
-/ ``znver4``. Both have the latencies above, so the table holds for the
-whole family; an unknown CPU gets the same numbers with ``known=False``.
+The latencies come from the table of the microarchitecture this process runs
+on (``cpus.py``: Zen 3/4/5, Golden Cove, Sunny Cove, Skylake-X, Haswell,
+Neoverse V1, and a ``generic`` row for an unknown core). The FMA latency is 4
+cycles on every one of them made since 2017, so the clock is right even where
+the FADD entry is not; the cross-check then shows the disagreement (the
+``fadd_latency_measured`` of a calibration), which ``benchmarks/bench_clock.py``
+reports.
 
 The kernel is built with reactor (``Fma`` in a ``For`` loop, width 1), so it
 is compiled by the same JIT as the kernels it times; ``assembly()`` shows the
@@ -48,45 +39,19 @@ import time
 
 import numpy as np
 
+from . import cpus
+
 UNROLL = 64
 #: Dependent operations per timing call (~0.3 ms at 3.6 GHz for the FMA chain).
 CHAIN_OPS = 1 << 18
 REPEATS = 41
 
-#: Latency (cycles) of the chained operations on AMD family 19h (Zen 3/Zen 4).
-LATENCY = {"fma": 4, "fadd": 3}
-LATENCY_SOURCE = ("AMD Software Optimization Guide for AMD Family 19h Processors (pub. 56665), "
-                  "FPU latencies; uops.info (ZEN4: VFMADD231SS 4, VADDSS 3)")
+OPS = ("fma", "fadd")
 
 
 def cpu_model() -> dict:
-    """Vendor, family, model and model name from /proc/cpuinfo, and LLVM's host CPU name."""
-    info = {"vendor": None, "family": None, "model": None, "name": None}
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                key, _, value = line.partition(":")
-                key, value = key.strip(), value.strip()
-                if key == "vendor_id" and info["vendor"] is None:
-                    info["vendor"] = value
-                elif key == "cpu family" and info["family"] is None:
-                    info["family"] = int(value)
-                elif key == "model" and info["model"] is None:
-                    info["model"] = int(value)
-                elif key == "model name" and info["name"] is None:
-                    info["name"] = value
-                if line.strip() == "":
-                    break
-    except OSError:
-        pass
-    try:
-        import llvmlite.binding as llvm
-        info["llvm_cpu"] = llvm.get_host_cpu_name()
-    except Exception:  # pragma: no cover - llvmlite is a dependency
-        info["llvm_cpu"] = None
-    info["known"] = (info["vendor"] == "AuthenticAMD" and info["family"] == 25) or \
-        info.get("llvm_cpu") in ("znver3", "znver4")
-    return info
+    """The host CPU's description and its microarchitecture row (see ``cpus.py``)."""
+    return cpus.cpu_model()
 
 
 @functools.lru_cache(maxsize=None)
@@ -98,8 +63,8 @@ def chain_kernel(op: str = "fma"):
     """
     from reactor import Fma, For, Float, Int, Variable, kernel
 
-    if op not in LATENCY:
-        raise ValueError(f"unknown chain op {op!r}; choose one of {tuple(LATENCY)}")
+    if op not in OPS:
+        raise ValueError(f"unknown chain op {op!r}; choose one of {OPS}")
 
     def body(v0, a, b, n):
         v = Variable(v0)
@@ -124,18 +89,26 @@ class Calibration:
     seconds: float  # best time of one chain
     repeats: int
     spread: float  # (median - best) / best of the repeats: the noise seen
-    check_ghz: float | None = None  # the cross-check chain's figure
+    uarch: str = "generic"  # the latency table used (cpus.TABLE)
+    check_ghz: float | None = None  # the cross-check chain's figure, with the table's FADD latency
+    check_seconds: float | None = None  # best time of the cross-check chain
     when: float = dataclasses.field(default_factory=time.time)
 
     @property
-    def ns_per_cycle(self) -> float:
-        return 1.0 / self.ghz
+    def fadd_latency_measured(self) -> float | None:
+        """The FADD latency implied by the two chains' times and the table's FMA latency
+        (equal to the table's FADD entry when the table is right for this core)."""
+        if self.check_seconds is None:
+            return None
+        return self.latency * self.check_seconds / self.seconds
 
     def to_json(self) -> dict:
+        fadd = self.fadd_latency_measured
         return {"ghz": round(self.ghz, 4), "op": self.op, "latency_cycles": self.latency,
-                "chain_ops": self.ops, "best_seconds": self.seconds, "repeats": self.repeats,
-                "spread": round(self.spread, 4),
+                "uarch": self.uarch, "chain_ops": self.ops, "best_seconds": self.seconds,
+                "repeats": self.repeats, "spread": round(self.spread, 4),
                 "check_ghz": None if self.check_ghz is None else round(self.check_ghz, 4),
+                "fadd_latency_measured": None if fadd is None else round(fadd, 3),
                 "when": self.when}
 
 
@@ -156,25 +129,28 @@ def time_chain(op: str = "fma", ops: int = CHAIN_OPS, repeats: int = REPEATS) ->
     return min(times), float(np.median(times))
 
 
-def calibrate(ops: int = CHAIN_OPS, repeats: int = REPEATS, check: bool = True) -> Calibration:
-    """Measure the core clock (GHz) with the FMA chain; ``check``: also time the add chain."""
+def calibrate(ops: int = CHAIN_OPS, repeats: int = REPEATS, check: bool = True,
+              uarch: "cpus.Microarchitecture | None" = None) -> Calibration:
+    """Measure the core clock (GHz) with the FMA chain; ``check``: also time the add chain.
+    ``uarch``: the latency table row (default: this host's)."""
+    uarch = uarch or cpus.host()
     n_ops = max(1, ops // UNROLL) * UNROLL
     best, median = time_chain("fma", ops, repeats)
-    ghz = n_ops * LATENCY["fma"] / best / 1e9
-    check_ghz = None
+    ghz = n_ops * uarch.fma / best / 1e9
+    check_ghz = cbest = None
     if check:
         cbest, _ = time_chain("fadd", ops, repeats)
-        check_ghz = n_ops * LATENCY["fadd"] / cbest / 1e9
-    return Calibration(ghz, "fma", LATENCY["fma"], n_ops, best, repeats,
-                       (median - best) / best, check_ghz)
+        check_ghz = n_ops * uarch.fadd / cbest / 1e9
+    return Calibration(ghz, "fma", uarch.fma, n_ops, best, repeats, (median - best) / best,
+                       uarch.name, check_ghz, cbest)
 
 
 def main() -> None:  # pragma: no cover - manual use: python -m routines.perf.clock
     print(cpu_model())
     for _ in range(3):
         c = calibrate()
-        print(f"{c.ghz:.3f} GHz (fma chain), check {c.check_ghz:.3f} GHz (fadd chain), "
-              f"spread {c.spread:.1%}")
+        print(f"{c.ghz:.3f} GHz (fma chain, {c.uarch} table), check {c.check_ghz:.3f} GHz (fadd chain), "
+              f"FADD latency measured {c.fadd_latency_measured:.2f}, spread {c.spread:.1%}")
 
 
 if __name__ == "__main__":  # pragma: no cover

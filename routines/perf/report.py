@@ -474,7 +474,7 @@ def run(functions=FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20, exhaus
                      "exhaustive": exhaustive, "exhaustive_peers": exhaustive_peers,
                      "threads": [1, 2] if threads2 else [1]},
         "clock": {"start": cal0.to_json(), "end": cal1.to_json(), "ghz": ghz,
-                  "latency_source": clock.LATENCY_SOURCE},
+                  "uarch": cal0.uarch, "latency_source": clock.cpus.TABLE[cal0.uarch].source},
         "load": loads,
         "machine_state": state,
         "variants": [{k: val for k, val in v.items() if k != "ufunc"} for v in variants],
