@@ -5,7 +5,8 @@ tables of docs/specials.md), accuracy (measure a variant's error on the
 compiled code), bench (time every variant against NumPy), zoo (the reference's
 methods, its figures beside ours), chart (the cost/error chart), report (the
 main job: every variant's accuracy and speed, the table, chart and JSON),
-docs (write docs/routines/*.md from the measurements).
+docs (write docs/routines/*.md from the measurements), fingerprint (a hash of
+every variant's output bits, to prove a change left them alone).
 """
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ COMMANDS = {
     "report": "routines.cli.report",
     "docs": "routines.cli.docs",
     "search": "routines.cli.search",
+    "fingerprint": "routines.lab.fingerprint",
 }
 
 
