@@ -275,10 +275,9 @@ def main(argv=None) -> int:
 
     import llvmlite
 
-    from reactor.jit.target import get_target
-    from reactor.options import current_options
+    from reactor import build_settings, get_target
 
-    opts = current_options().resolved()
+    opts = build_settings()
     env = {"cpu": get_target("host").cpu, "width": opts.width, "fma": opts.fma,
            "llvmlite": llvmlite.__version__, "numpy": np.__version__, "python": sys.version.split()[0]}
     saved = {k: os.environ.get(k) for k in ("REACTOR_CACHE_DIR", "REACTOR_CACHE")}

@@ -1,9 +1,9 @@
 """Exceptions raised while building, compiling or calling reactor code.
 
 Every error raised because of something the user wrote carries the user's
-``file:line`` (the innermost stack frame outside the ``reactor`` and
-``routines`` packages), so the message points at the offending DSL line rather
-than at library internals.
+``file:line`` (the innermost stack frame outside reactor and the builder
+libraries registered with ``hide_frames_of``), so the message points at the
+offending DSL line rather than at library internals.
 """
 from __future__ import annotations
 
@@ -11,18 +11,24 @@ import contextlib
 import os
 import sys
 
-_LIBRARY_DIRS = tuple(
-    os.path.dirname(os.path.abspath(p)) + os.sep
-    for p in (__file__, os.path.join(os.path.dirname(__file__), "..", "routines", "x"))
-)
+_LIBRARY_DIRS = [os.path.dirname(os.path.abspath(__file__)) + os.sep]
+
+
+def hide_frames_of(package_dir: str) -> None:
+    """Report errors raised inside ``package_dir`` at the line of its caller, as
+    for reactor's own frames (for libraries of DSL builders, such as routines)."""
+    path = os.path.abspath(package_dir) + os.sep
+    if path not in _LIBRARY_DIRS:
+        _LIBRARY_DIRS.append(path)
 
 
 def user_location() -> tuple[str, int] | None:
     """Return ``(filename, lineno)`` of the innermost frame outside the library."""
     frame = sys._getframe(1)
+    dirs = tuple(_LIBRARY_DIRS)
     while frame is not None:
         filename = os.path.abspath(frame.f_code.co_filename)
-        if not filename.startswith(_LIBRARY_DIRS) and "importlib" not in filename:
+        if not filename.startswith(dirs) and "importlib" not in filename and not filename.startswith("<frozen"):
             return frame.f_code.co_filename, frame.f_lineno
         frame = frame.f_back
     return None
@@ -32,32 +38,13 @@ def return_location(body) -> tuple[str, int] | None:
     """Where the DSL body ``body`` returns its value: the line of its only
     ``return <value>`` statement, else its ``def`` line. Used for errors found in
     a returned value after the body's frame is gone."""
-    import ast
-    import inspect
-    import textwrap
+    from .source import return_lines
 
     code = getattr(body, "__code__", None)
     if code is None:
         return None
-    where = (code.co_filename, code.co_firstlineno)
-    try:
-        lines, start = inspect.getsourcelines(body)
-        fn = ast.parse(textwrap.dedent("".join(lines))).body[0]
-    except (OSError, TypeError, SyntaxError, IndexError):
-        return where
-    found = []
-
-    def visit(node):
-        for child in ast.iter_child_nodes(node):
-            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
-                continue  # returns of nested functions are not the body's
-            if isinstance(child, ast.Return) and child.value is not None:
-                found.append(child.lineno)
-            visit(child)
-
-    if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
-        visit(fn)
-    return (code.co_filename, start + found[0] - 1) if len(found) == 1 else where
+    found = return_lines(code)
+    return (code.co_filename, found[0][0]) if len(found) == 1 else (code.co_filename, code.co_firstlineno)
 
 
 @contextlib.contextmanager

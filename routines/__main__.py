@@ -6,7 +6,8 @@ compiled code), bench (time every variant against NumPy), zoo (the reference's
 methods, its figures beside ours), chart (the cost/error chart), report (the
 main job: every variant's accuracy and speed, the table, chart and JSON),
 docs (write docs/routines/*.md from the measurements), fingerprint (a hash of
-every variant's output bits, to prove a change left them alone).
+every variant's output bits, to prove a change left them alone), dump (the IR or
+assembly of a routine's kernel).
 """
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ COMMANDS = {
     "docs": "routines.cli.docs",
     "search": "routines.cli.search",
     "fingerprint": "routines.lab.fingerprint",
+    "dump": "routines.cli.dump",
 }
 
 

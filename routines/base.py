@@ -1,18 +1,24 @@
-"""What every routine builder shares: argument checks and the FMA override.
+"""What every routine builder shares: argument checks and the precision and FMA overrides.
 
-A routine builder (``exp2(x, precision="full", fma=None)`` ...) is called while
+A routine builder (``exp2(x, precision=None, fma=None)`` ...) is called while
 a reactor Function or kernel is being built. It takes a Float value of any
 width (or a Python number), emits inline IR and returns a Float of the same
-width. ``fma=None`` keeps the enclosing build's FMA setting.
+width. ``precision=None`` follows the enclosing build (``reactor.precision``
+blocks, the kernel's ``precision=`` option; "full" by default) and ``fma=None``
+keeps the enclosing build's FMA setting.
 """
 from __future__ import annotations
 
 import functools
+import os
 
-from reactor import Float, Value, fma_mode
-from reactor.errors import DSLTypeError, ReactorError
+import reactor
+from reactor import DSLTypeError, Float, Precision, Value, fma_mode
 
-PRECISIONS = ("full", "relaxed")
+reactor.hide_frames_of(os.path.dirname(__file__))  # errors point at the caller's line
+
+#: The precisions the routines are built in (reactor's Precision values).
+PRECISIONS = tuple(p.value for p in Precision)
 
 
 def float_value(x, routine: str, arg: str = "x") -> Value:
@@ -27,18 +33,23 @@ def float_value(x, routine: str, arg: str = "x") -> Value:
     raise DSLTypeError(f"{routine}: argument '{arg}' must be a Float value or a number, not {x!r}")
 
 
-def check_precision(precision: str, routine: str) -> str:
-    if precision not in PRECISIONS:
-        raise ReactorError(f"{routine}: precision must be 'full' or 'relaxed', not {precision!r}")
-    return precision
+def check_precision(precision, routine: str) -> Precision:
+    """``precision`` as a Precision (None: the build's); a clear error naming ``routine`` otherwise."""
+    if precision is None:
+        return reactor.build_settings().precision
+    try:
+        return Precision.of(precision)
+    except reactor.ReactorError:
+        names = " or ".join(repr(p) for p in PRECISIONS)
+        raise reactor.ReactorError(f"{routine}: precision must be {names}, not {precision!r}") from None
 
 
 def routine(fn):
-    """Decorate a builder ``fn(x..., precision, fma)``: validate, then emit under the FMA override."""
+    """Decorate a builder ``fn(x..., precision)``: validate, then emit under the FMA override."""
     @functools.wraps(fn)
-    def build(*args, precision: str = "full", fma: bool | None = None, **kwargs):
-        check_precision(precision, fn.__name__)
-        with fma_mode(fma):
-            return fn(*args, precision=precision, **kwargs)
+    def build(*args, precision=None, fma: bool | None = None, **kwargs):
+        level = check_precision(precision, fn.__name__)
+        with fma_mode(fma), reactor.precision(level):
+            return fn(*args, precision=level, **kwargs)
 
     return build

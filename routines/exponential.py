@@ -25,7 +25,8 @@ because f = 0 there and y = k exactly.
 """
 from __future__ import annotations
 
-from reactor import As, Fract, Min, MulAdd, Select, ToInt, fma_mode, vector_type
+import reactor
+from reactor import As, Fract, Min, MulAdd, Precision, Select, ToInt, fma_mode, vector_type
 
 from .base import float_value, routine
 from .polynomials import EXP2_FULL, EXP2_RELAXED
@@ -59,22 +60,21 @@ def fix_specials(x, f, r):
 
 
 @routine
-def exp2(x, precision: str = "full"):
+def exp2(x, precision: Precision = Precision.FULL):
     """2^x for Float values of any width; see the module docstring."""
-    from reactor.ir import emitter
     x = float_value(x, "exp2")
     f = Fract(x)
-    if precision == "full":
+    if precision is Precision.FULL:
         y = MulAdd(EXP2_FULL(f), f, x)
         r = insert_exponent(y, float_trick=False)
     else:
         y = MulAdd(EXP2_RELAXED(f), f, x)
-        r = insert_exponent(y, float_trick=emitter.current().fma)
+        r = insert_exponent(y, float_trick=reactor.build_settings().fma)
     return fix_specials(x, f, r).named("exp2")
 
 
 @routine
-def exp(x, precision: str = "full"):
+def exp(x, precision: Precision = Precision.FULL):
     """e^x = 2^(x * log2(e)). The product's rounding (relative 2^-24, at most
     ~2^-17 absolute for |x| <= 88) costs at most ~45 ULP near overflow, well
     inside Vulkan's 3 + 2|x| ULP for exp."""

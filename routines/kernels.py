@@ -3,8 +3,7 @@ from __future__ import annotations
 
 import functools
 
-from reactor import Float, kernel
-from reactor.errors import ReactorError
+from reactor import Float, ReactorError, build_settings, get_target, kernel, options
 
 from . import exponential as _exp2
 from . import logarithm as _log2
@@ -20,22 +19,29 @@ BINARY = {"pow": _power.pow}
 NAMES = tuple(UNARY) + tuple(BINARY)
 
 
-def jit(name: str, precision: str = "full", fma: bool | None = True, width: int | None = None,
+def jit(name: str, precision="full", fma: bool | None = None, width: int | None = None,
         target: str | None = None):
     """The ufunc computing routine ``name`` ("exp2", "log2", "pow", "exp", "log",
     "rcp", "rsqrt", "sqrt") in ``precision`` ("full"/"relaxed"), with FMA on or
-    off (None: the target's capability), at SIMD ``width`` (None: the target's
-    natural width). Built once per variant and process (and cached on disk)."""
+    off (None: fused where the target has FMA), at SIMD ``width`` (None: the
+    target's natural width) for ``target`` (None: this CPU). Built once per
+    variant and process (and cached on disk). Its name and doc state the
+    resolved settings, e.g. ``exp2_full_fma``: "exp2, full precision, FMA on,
+    16 lanes, target host (znver4), float32"."""
     if name not in NAMES:
         raise ReactorError(f"unknown routine {name!r}; choose one of {', '.join(NAMES)}")
-    check_precision(precision, name)
-    return _build(name, precision, fma, width, target)
+    level = check_precision(precision, name)
+    with options(fma=fma, width=width, target=target):
+        build = build_settings()
+    return _build(name, level, build.fma, build.width, build.target.name, width is not None)
 
 
 @functools.lru_cache(maxsize=None)
-def _build(name, precision, fma, width, target):
-    tag = f"{name}_{precision}_{'fma' if fma else 'nofma'}" + (f"_w{width}" if width else "")
-    doc = f"{name} ({precision} precision, FMA {'on' if fma else 'off'}), float32."
+def _build(name, precision, fma, width, target, tag_width):
+    tag = f"{name}_{precision.value}_{'fma' if fma else 'nofma'}" + (f"_w{width}" if tag_width else "")
+    where = get_target(target)
+    doc = (f"{name}, {precision.value} precision, FMA {'on' if fma else 'off'}, {width} lane{'s' * (width > 1)}, "
+           f"target {target} ({where.cpu}), float32.")
     if name in BINARY:
         builder = BINARY[name]
 
@@ -47,4 +53,4 @@ def _build(name, precision, fma, width, target):
         def body(x: Float) -> Float:
             return builder(x, precision=precision)
     body.__doc__ = doc
-    return kernel(body, name=tag, fma=fma, width=width, target=target)
+    return kernel(body, name=tag, fma=fma, width=width, target=target, precision=precision.value)

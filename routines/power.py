@@ -23,13 +23,15 @@ docs/accuracy.md for the derivation used by the accuracy lab.
 """
 from __future__ import annotations
 
+from reactor import Precision
+
 from .base import float_value, routine
 from .exponential import exp2
 from .logarithm import log2
 
 
 @routine
-def pow(x, y, precision: str = "full"):  # noqa: A001 - the routine's public name
+def pow(x, y, precision: Precision = Precision.FULL):  # noqa: A001 - the routine's public name
     """x^y with powr semantics; x and y are Float values (a scalar broadcasts)."""
     x = float_value(x, "pow", "x")
     y = float_value(y, "pow", "y")

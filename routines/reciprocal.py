@@ -28,7 +28,7 @@ on other targets these routines divide and take square roots exactly
 """
 from __future__ import annotations
 
-from reactor import IsNan, MulAdd, RcpApprox, RsqrtApprox, Select, Sqrt, target_features
+from reactor import IsNan, MulAdd, Precision, RcpApprox, RsqrtApprox, Select, Sqrt, target_features
 
 from .base import float_value, routine
 
@@ -42,36 +42,36 @@ def _keep_estimate_where_nan(estimate, refined):
 
 
 @routine
-def rcp(x, precision: str = "full"):
+def rcp(x, precision: Precision = Precision.FULL):
     """1/x: IEEE specials (1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN)."""
     x = float_value(x, "rcp")
     if not _estimates_exact_at_edges():
         return (1.0 / x).named("rcp")
     r = RcpApprox(x)
-    if precision == "relaxed":
+    if precision is Precision.RELAXED:
         return r.named("rcp")
     e = MulAdd(-x, r, 1.0)
     return _keep_estimate_where_nan(r, MulAdd(r, e, r)).named("rcp")
 
 
 @routine
-def rsqrt(x, precision: str = "full"):
+def rsqrt(x, precision: Precision = Precision.FULL):
     """1/sqrt(x): ±0 -> ±inf, +inf -> +0, x < 0 -> NaN, NaN -> NaN."""
     x = float_value(x, "rsqrt")
     if not _estimates_exact_at_edges():
         return (1.0 / Sqrt(x)).named("rsqrt")
     r = RsqrtApprox(x)
-    if precision == "relaxed":
+    if precision is Precision.RELAXED:
         return r.named("rsqrt")
     e = MulAdd(-(x * r), r, 1.0)
     return _keep_estimate_where_nan(r, MulAdd(r * 0.5, e, r)).named("rsqrt")
 
 
 @routine
-def sqrt(x, precision: str = "full"):
+def sqrt(x, precision: Precision = Precision.FULL):
     """sqrt(x): ±0 -> ±0, +inf -> +inf, x < 0 -> NaN, NaN -> NaN."""
     x = float_value(x, "sqrt")
-    if precision == "full" or not _estimates_exact_at_edges():
+    if precision is Precision.FULL or not _estimates_exact_at_edges():
         return Sqrt(x).named("sqrt")
     s = x * RsqrtApprox(x)
     return Select(IsNan(s) & (x >= 0.0), x, s).named("sqrt")

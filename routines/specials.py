@@ -13,11 +13,13 @@ import dataclasses
 
 import numpy as np
 
+from .base import PRECISIONS
+
 INF, NAN = float("inf"), float("nan")
 TINY = float(np.float32(1e-40))  # a subnormal
 MIN_NORMAL = 2.0 ** -126
 MAX_FLOAT = float(np.finfo(np.float32).max)
-BOTH = ("full", "relaxed")
+BOTH = PRECISIONS
 
 
 @dataclasses.dataclass(frozen=True)

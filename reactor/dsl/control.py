@@ -20,18 +20,17 @@ emitted code. ``Return(v)`` returns from the function being built.
 """
 from __future__ import annotations
 
-import functools
-
-from llvmlite import ir
-
 from ..errors import ControlFlowError, DSLTypeError, ScopeError, user_location
 from ..ir import emitter as _em
-from .types import KINDS, VType
+from ..ir import ops
+from ..ir import types as T
+from ..ir.types import KINDS, VType
+from ..source import returns_in_blocks
 from .values import Value, common_type, to_ir, value_class
 from .variables import Variable
 
 
-def _condition(cond, what: str) -> ir.Value:
+def _condition(cond, what: str):
     if isinstance(cond, bool):
         raise DSLTypeError(f"{what} got a Python bool: that is decided at build time; "
                            f"use a plain Python 'if' instead")
@@ -98,9 +97,9 @@ class If(_Block):
         em = self._em
         em.branch_to(self._merge)
         em.goto(self._else)
-        em.emit("branch", self._merge)
+        em.branch(self._merge)
         em.goto(self._merge)
-        em.pending_chain = (self._else, self._merge, len(self._merge.instructions))
+        em.pending_chain = (self._else, self._merge, em.mark())
         return False
 
 
@@ -218,11 +217,9 @@ class For(_Block):
         self._latch, self._exit = em.new_block("for.next"), em.new_block("for.end")
         em.branch_to(self._head)
         em.goto(self._head)
-        signed = vt.kind.signed
-        op = "<" if self._step > 0 else ">"
-        cmp = em.emit("icmp_signed" if signed else "icmp_unsigned", op, self._counter.ir, stop, name="for.test")
+        cmp = ops.compare(em, vt, "lt" if self._step > 0 else "gt", self._counter.ir, stop)
         em.cbranch(cmp, body, self._exit)
-        self._stop_ir, self._signed = stop, signed
+        self._stop_ir, self._vt = stop, vt
         em.goto(body)
         self._open(em)
         # The counter lives in the loop's scope, so using it after the loop is an error.
@@ -239,13 +236,13 @@ class For(_Block):
         if abs(self._step) > 1:
             # i + step may wrap around past stop (e.g. UInt 9, 7, ..., 1 -> 2**32 - 1):
             # step only while it stays short of stop, else go to stop and leave.
-            i, stop, step = self._counter.ir, self._stop_ir, abs(self._step)
-            ahead = em.emit("icmp_signed" if self._signed else "icmp_unsigned", "<" if self._step > 0 else ">",
-                            i, stop, name="for.ahead")
-            room = em.emit("sub", *((stop, i) if self._step > 0 else (i, stop)), name="for.room")
-            fits = em.emit("icmp_unsigned", ">", room, ir.Constant(room.type, step), name="for.fits")
-            nxt = type(nxt)._wrap(em.emit("select", em.emit("and_", ahead, fits, name="for.more"), nxt.ir,
-                                          stop, name="i.next"), em)
+            i, stop, step, vt = self._counter.ir, self._stop_ir, abs(self._step), self._vt
+            ahead = ops.compare(em, vt, "lt" if self._step > 0 else "gt", i, stop)
+            room = ops.binary(em, "sub", vt, *((stop, i) if self._step > 0 else (i, stop)))
+            uvt = vt.with_kind("UInt")
+            fits = ops.compare(em, uvt, "gt", room, T.const(uvt, step))
+            more = ops.binary(em, "and", VType(KINDS["Bool"], 1), ahead, fits)
+            nxt = type(nxt)._wrap(ops.select(em, more, nxt.ir, stop), em)
         self._counter.set(nxt)
         self._close()
         em.branch_to(self._head)
@@ -273,60 +270,14 @@ def Return(value=None):
     em.ret(to_ir(value, expected))
 
 
-_BLOCK_NAMES = frozenset({"If", "Elif", "Else", "For", "While"})
-
-
 def check_python_returns(body) -> None:
     """Refuse a Python ``return`` inside a ``with If/Elif/Else/For/While`` block of
     ``body``: it ends the *build* there, so the value is returned on every path
     at run time and the block's condition is silently ignored (``Return(v)``
     returns at run time)."""
-    found = _returns_in_blocks(getattr(body, "__code__", None))
+    found = returns_in_blocks(getattr(body, "__code__", None))
     if found:
         line, what = found
         raise ControlFlowError(f"Python 'return' inside a '{what}' block returns while building, for every "
                                f"run-time path (the {what} is ignored); use Return(value), or assign a "
                                f"Variable in the block and return after it", location=line)
-
-
-@functools.lru_cache(maxsize=1024)
-def _returns_in_blocks(code):
-    """(location, block name) of the first ``return`` inside a run-time block, or None."""
-    import ast
-    import inspect
-    import textwrap
-
-    if code is None:
-        return None
-    try:
-        lines, start = inspect.getsourcelines(code)
-        tree = ast.parse(textwrap.dedent("".join(lines)))
-    except (OSError, TypeError, SyntaxError, IndentationError):
-        return None
-    fn = tree.body[0] if tree.body else None
-    if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
-        return None
-
-    def block_name(node):
-        for item in node.items:
-            call = item.context_expr
-            if isinstance(call, ast.Call):
-                f = call.func
-                name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
-                if name in _BLOCK_NAMES:
-                    return name
-        return None
-
-    def search(node, inside):
-        for child in ast.iter_child_nodes(node):
-            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
-                continue
-            if isinstance(child, ast.Return) and inside:
-                return (code.co_filename, start + child.lineno - 1), inside
-            here = block_name(child) if isinstance(child, ast.With) else None
-            hit = search(child, here or inside)
-            if hit:
-                return hit
-        return None
-
-    return search(fn, None)

@@ -19,12 +19,10 @@ import ctypes
 import ctypes.util
 import functools
 
-from llvmlite import ir
-
 from ..errors import ArityError, DSLTypeError, ReactorError
 from ..ir import emitter as _em
 from .signature import resolve
-from .types import VType
+from ..ir.types import VType
 from .values import Value, to_ir, value_class
 
 
@@ -70,14 +68,14 @@ class External:
             if isinstance(a, Value) and (a.kind != want.kind or a.width not in (1, want.width)):
                 raise DSLTypeError(f"'{self.symbol}' needs a {want.name}, got a {a.vtype.name}")
             irs.append(to_ir(a, want))
-        fn = em.module.declare(self.symbol, self.returns.ir, [a.ir for a in self.args])
+        fn = em.module.declare(self.symbol, self.returns, self.args)
         em.module.imports[self.symbol] = self.address
         result = em.call(fn, irs, name=self.symbol.lower())
         scalar_call = all(not isinstance(a, Value) or a.width == 1 for a in args)
         if scalar_call and self.returns.width > 1:
             # Scalars were broadcast into the vector function; lane 0 is the answer
             # (this is how a kernel's strided path calls a vector-only function).
-            result = em.emit("extract_element", result, ir.Constant(ir.IntType(32), 0), name="lane0")
+            result = em.extract(result, 0, name="lane0")
             return value_class(self.returns.with_width(1))._wrap(result, em)
         return value_class(self.returns)._wrap(result, em)
 

@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import contextlib
 
-from llvmlite import ir
-
+from ..build import Precision, current_options, options
 from ..errors import DSLTypeError, FmaDisabledError, WidthMismatchError
 from ..ir import emitter as _em
-from ..ir import ops
-from .types import KINDS, VType
-from .values import Value, binary, common_type, to_ir, unary, value_class
+from ..ir import ops, x86
+from ..ir import types as T
+from ..ir.types import KINDS, VType
+from .values import Value, binary, common_type, to_ir, unary, value_class, vector_type
 
 
 def _binary_fn(op: str, doc: str):
@@ -79,13 +79,17 @@ def Select(mask, a, b):
     """Lane-wise ``mask ? a : b``; a scalar Bool mask selects whole vectors."""
     if not isinstance(mask, Value) or mask.kind.category != "bool":
         raise DSLTypeError(f"Select needs a Bool mask as first argument, not {mask!r}")
+    if not isinstance(a, Value) and not isinstance(b, Value):  # two constants: their Python kind
+        kind = "Bool" if isinstance(a, bool) and isinstance(b, bool) else \
+            "Float" if isinstance(a, float) or isinstance(b, float) else "Int"
+        a = value_class(VType(KINDS[kind], 1))(a)
     vt = common_type(a, b, what="Select")
     if vt.width == 1 and mask.width > 1:
         vt = vt.with_width(mask.width)
     elif mask.width not in (1, vt.width):
         raise WidthMismatchError(f"Select: mask {mask.vtype.name} does not match values {vt.name}")
     em = _em.current()
-    return value_class(vt)._wrap(em.emit("select", mask.ir, to_ir(a, vt), to_ir(b, vt), name="select"), em)
+    return value_class(vt)._wrap(ops.select(em, mask.ir, to_ir(a, vt), to_ir(b, vt)), em)
 
 
 def _fused_args(a, b, c, what):
@@ -100,7 +104,7 @@ def MulAdd(a, b, c):
     otherwise a rounded multiply followed by an add. This is the FMA toggle."""
     vt, x, y, z = _fused_args(a, b, c, "MulAdd")
     em = _em.current()
-    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.fma), em)
+    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.settings.fma), em)
 
 
 def Fma(a, b, c):
@@ -108,22 +112,46 @@ def Fma(a, b, c):
     (use ``MulAdd`` for code that should follow the toggle)."""
     vt, x, y, z = _fused_args(a, b, c, "Fma")
     em = _em.current()
-    if not em.fma:
+    if not em.settings.fma:
         raise FmaDisabledError("Fma used where FMA is off (fma=False); use MulAdd to follow the FMA toggle")
     return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, True), em)
 
 
 @contextlib.contextmanager
 def fma_mode(enabled: bool | None):
-    """Inside the block, ``MulAdd`` fuses iff ``enabled`` (None: keep the build's setting)."""
-    em = _em.current()
-    saved = em.fma
-    if enabled is not None:
-        em.fma = bool(enabled)
-    try:
+    """Inside the block, ``MulAdd`` fuses iff ``enabled`` (None: keep the build's setting).
+    Outside a body being built, it sets the default of the builds made in the block."""
+    if enabled is None:
         yield
-    finally:
-        em.fma = saved
+    elif _em.building():
+        with _em.current().overriding(fma=bool(enabled)):
+            yield
+    else:
+        with options(fma=bool(enabled)):
+            yield
+
+
+@contextlib.contextmanager
+def precision(level):
+    """``with reactor.precision("relaxed"):`` like GLSL's ``precision mediump float;``:
+    the math built-ins of the block use ``level`` unless a call says otherwise.
+    Inside a body it applies to the code of the block; outside, to the builds
+    made in the block (a default, as ``reactor.options(precision=...)``)."""
+    level = Precision.of(level)
+    if _em.building():
+        with _em.current().overriding(precision=level):
+            yield
+    else:
+        with options(precision=level.value):
+            yield
+
+
+def build_settings():
+    """The settings (a ``reactor.Build``: target, width, fma, precision, opt) of the code
+    being emitted; outside a body, those a build started here would use."""
+    if _em.building():
+        return _em.current().settings
+    return current_options().resolved()
 
 
 def As(type_, x):
@@ -139,10 +167,7 @@ def As(type_, x):
         raise DSLTypeError(f"As({dst.name}, {src.name}): sizes differ "
                            f"({dst.kind.bits * dst.width} vs {src.kind.bits * src.width} bits)")
     em = _em.current()
-    val = x.ir
-    if src.ir != dst.ir:
-        val = em.emit("bitcast", val, dst.ir, name="as")
-    return type_._wrap(val, em)
+    return type_._wrap(ops.bitcast(em, src, dst, x.ir), em)
 
 
 def ToInt(x, rounding: str = "trunc", *, saturate: bool = True, unsigned: bool = False):
@@ -164,10 +189,10 @@ def _lane_index(v: Value, i):
         if not i.kind.is_integer or i.width != 1:
             raise DSLTypeError(f"lane index must be a scalar Int, not {i.vtype.name}")
         # taken modulo the width: an out-of-range index would make LLVM poison
-        return _em.current().emit("and_", i.ir, ir.Constant(ir.IntType(32), v.width - 1), name="lane_i")
+        return ops.binary(_em.current(), "and", i.vtype, i.ir, T.const(i.vtype, v.width - 1))
     if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < v.width:
         raise DSLTypeError(f"lane index {i!r} out of range for {v.vtype.name}")
-    return ir.Constant(ir.IntType(32), i)
+    return i
 
 
 def Extract(v: Value, i):
@@ -175,7 +200,7 @@ def Extract(v: Value, i):
     if not isinstance(v, Value) or v.width == 1:
         raise DSLTypeError(f"Extract needs a vector value, not {v!r}")
     em = _em.current()
-    return value_class(v.vtype.with_width(1))._wrap(em.emit("extract_element", v.ir, _lane_index(v, i), name="lane"), em)
+    return value_class(v.vtype.with_width(1))._wrap(em.extract(v.ir, _lane_index(v, i)), em)
 
 
 def Insert(v: Value, x, i):
@@ -184,39 +209,37 @@ def Insert(v: Value, x, i):
         raise DSLTypeError(f"Insert needs a vector value, not {v!r}")
     scalar = to_ir(x, v.vtype.with_width(1))
     em = _em.current()
-    return value_class(v.vtype)._wrap(em.emit("insert_element", v.ir, scalar, _lane_index(v, i), name="insert"), em)
+    return value_class(v.vtype)._wrap(em.insert(v.ir, scalar, _lane_index(v, i)), em)
 
 
-def _reduce(name: str, llvm_name: str):
+def _reduce(name: str):
     def fn(mask):
         if not isinstance(mask, Value) or mask.kind.category != "bool":
             raise DSLTypeError(f"{name} needs a Bool mask, not {mask!r}")
         if mask.width == 1:
             return mask
         em = _em.current()
-        result = ops.intrinsic(em, llvm_name, mask.vtype, [mask.ir], ret=VType(mask.kind, 1))
-        return value_class(VType(mask.kind, 1))._wrap(result, em)
+        return value_class(VType(mask.kind, 1))._wrap(ops.reduce(em, name.lower(), mask.vtype, mask.ir), em)
 
     fn.__name__ = fn.__qualname__ = name
-    fn.__doc__ = f"Scalar Bool: {'some' if name == 'Any' else 'every'} lane of the mask is set."
+    fn.__doc__ = (f"Scalar Bool: {'some' if name == 'Any' else 'every'} lane of the mask is set "
+                  f"(in a kernel, every lane of the vector body holds an element of the arrays).")
     return fn
 
 
-Any = _reduce("Any", "llvm.vector.reduce.or")
-All = _reduce("All", "llvm.vector.reduce.and")
+Any = _reduce("Any")
+All = _reduce("All")
 
 
 def LaneIndex(width: int | None = None):
     """``Int<width>(0, 1, ..., width-1)``; the build's SIMD width by default."""
     em = _em.current()
     vt = VType(KINDS["Int"], width or em.width)
-    lanes = [ir.Constant(ir.IntType(32), i) for i in range(vt.width)]
-    return value_class(vt)._wrap(lanes[0] if vt.width == 1 else ir.Constant(vt.ir, lanes), em)
+    return value_class(vt)._wrap(T.lanes(vt, range(vt.width)), em)
 
 
 def _features():
-    from ..jit.target import get_target
-    return get_target(_em.current().options.target).feature_set
+    return _em.current().settings.target.feature_set
 
 
 def target_features() -> frozenset[str]:
@@ -231,7 +254,7 @@ def _require_float(name: str, x):
 
 def _native(name: str, x, natives):
     em = _em.current()
-    return value_class(x.vtype)._wrap(ops.by_native_width(em, x.vtype, x.ir, natives), em).named(name)
+    return value_class(x.vtype)._wrap(x86.by_native_width(em, x.vtype, x.ir, natives), em).named(name)
 
 
 def RcpApprox(x):
@@ -241,7 +264,7 @@ def RcpApprox(x):
     as zero and flushes results below 2^-126 (check ``target_features()``)."""
     _require_float("RcpApprox", x)
     em = _em.current()
-    return value_class(x.vtype)._wrap(ops.estimate(em, "rcp", x.vtype, x.ir, _features()), em)
+    return value_class(x.vtype)._wrap(x86.estimate(em, "rcp", x.vtype, x.ir, _features()), em)
 
 
 def RsqrtApprox(x):
@@ -250,7 +273,7 @@ def RsqrtApprox(x):
     RSQRTPS treats subnormal inputs as zero (-> inf); RSQRT14 does not."""
     _require_float("RsqrtApprox", x)
     em = _em.current()
-    return value_class(x.vtype)._wrap(ops.estimate(em, "rsqrt", x.vtype, x.ir, _features()), em)
+    return value_class(x.vtype)._wrap(x86.estimate(em, "rsqrt", x.vtype, x.ir, _features()), em)
 
 
 def Fract(x):
@@ -264,10 +287,9 @@ def Fract(x):
     same bits: the difference rounded to nearest, its rounding error (exact,
     by Fast2Sum, where it is not zero), then one step down if it rounded up."""
     _require_float("Fract", x)
-    natives = ops.avx512_natives(_features(), "reduce", imm=1, need="avx512dq")
+    natives = x86.avx512_natives(_features(), "reduce", imm=1, need="avx512dq")
     if natives:
         return _native("fract", x, natives)
-    from .values import vector_type
     f = Floor(x)
     s = x - f
     below = As(vector_type("Float", x.width), As(vector_type("Int", x.width), s) - 1)  # s > 0 where used
@@ -281,7 +303,6 @@ _MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000
 
 def _normalized_bits(x):
     """(|x|, its bits, tiny mask, bits of |x| with subnormals scaled by 2^23)."""
-    from .values import vector_type
     Int_ = vector_type("Int", x.width)
     Float_ = vector_type("Float", x.width)
     ax = Abs(x)
@@ -295,7 +316,7 @@ def Exponent(x):
     """floor(log2|x|) as a float, exact for subnormals; ±0 -> -inf, ±inf -> +inf,
     NaN -> NaN (AVX-512 VGETEXPPS; an integer-bit emulation elsewhere)."""
     _require_float("Exponent", x)
-    natives = ops.avx512_natives(_features(), "getexp")
+    natives = x86.avx512_natives(_features(), "getexp")
     if natives:
         return _native("exponent", x, natives)
     ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
@@ -309,7 +330,7 @@ def Significand(x):
     subnormals; +0 -> 1, -0 -> -1, +inf -> 1, x < 0 (and -inf) -> NaN,
     NaN -> NaN (AVX-512 VGETMANTPS with sign control "NaN if negative")."""
     _require_float("Significand", x)
-    natives = ops.avx512_natives(_features(), "getmant", imm=0b1000)
+    natives = x86.avx512_natives(_features(), "getmant", imm=0b1000)
     if natives:
         return _native("significand", x, natives)
     ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
@@ -318,3 +339,63 @@ def Significand(x):
     m = Select(x < 0.0, float("nan"), m)
     m = Select(IsNan(x), x, m)
     return Select(ax == 0.0, CopySign(1.0, x), m).named("significand")
+
+
+def _quiet(x):
+    """``x`` with the quiet bit set (a NaN stays the same NaN, quieted)."""
+    Int_, Float_ = vector_type("Int", x.width), vector_type("Float", x.width)
+    return As(Float_, As(Int_, x) | 0x00400000)
+
+
+def ScaleF(a, b):
+    """``a * 2^floor(b)`` rounded once (AVX-512 VSCALEFPS; elsewhere the same bits
+    from an exact product in double precision rounded to float).
+
+    Results below the normal range are correctly rounded subnormals; above it,
+    ±inf. Specials follow VSCALEFPS's table: a NaN operand gives that NaN
+    quieted (``a``'s if both are NaN), except that a quiet NaN ``a`` scaled by
+    ``b = +inf`` gives +inf and by ``b = -inf`` gives +0; otherwise ``b = +inf``
+    gives ±inf (NaN for a = ±0) and ``b = -inf`` gives ±0 (NaN for a = ±inf)."""
+    _require_float("ScaleF", a)
+    vt = common_type(a, b, what="ScaleF")
+    a, b = (v if isinstance(v, Value) and v.width == vt.width else value_class(vt)(v) for v in (a, b))
+    em = _em.current()
+    native = x86.scalef(em, vt, a.ir, b.ir, _features())
+    if native is not None:
+        return value_class(vt)._wrap(native, em).named("scalef")
+    Double_, Int_ = vector_type("Double", vt.width), vector_type("Int", vt.width)
+    Long_ = VType(T.INDEX_KIND, vt.width)
+    n = Max(Min(Floor(b), 320.0), -320.0)  # NaN -> 320 here; handled below
+    exponent = ops.convert(em, vt.with_kind("Int"), Long_, ToInt(n, saturate=False).ir)
+    bits = ops.binary(em, "shl", Long_, ops.binary(em, "add", Long_, exponent, T.const(Long_, 1023)),
+                      T.const(Long_, 52))
+    scale = value_class(Double_.vtype)._wrap(ops.bitcast(em, Long_, Double_.vtype, bits), em)
+    regular = value_class(vt)(Double_(a) * scale)
+    by_inf = Select(b > 0.0, float("inf"), 0.0)
+    r = Select(IsInf(b), a * by_inf, regular)
+    nan = Select(IsNan(a), _quiet(a), _quiet(b))
+    quiet_a = IsNan(a) & ((As(Int_, a) & 0x00400000) != 0)
+    nan = Select(quiet_a & IsInf(b), by_inf, nan)
+    return Select(IsNan(a) | IsNan(b), nan, r).named("scalef")
+
+
+def ReduceNearest(x):
+    """``x - round(x)`` (ties to even), exact, in [-1/2, 1/2] (AVX-512DQ VREDUCEPS
+    imm 0; the same bits elsewhere): +0 for integers and infinities, NaN for NaN."""
+    _require_float("ReduceNearest", x)
+    natives = x86.avx512_natives(_features(), "reduce", imm=0, need="avx512dq")
+    if natives:
+        return _native("reduce", x, natives)
+    r = x - Round(x)
+    return Select(IsInf(x), 0.0, r).named("reduce")
+
+
+def LRint(x):
+    """Float -> Int rounded to nearest even in one conversion (VCVTPS2DQ), for inputs
+    known to be in Int's range: others give an unspecified (fixed) value, which
+    differs between targets. ``ToInt(x, "nearest")`` is the checked, saturating form."""
+    if not isinstance(x, Value) or x.kind.name != "Float":
+        raise DSLTypeError(f"LRint converts Float values (any width), not {x!r}")
+    em = _em.current()
+    dst = x.vtype.with_kind("Int")
+    return value_class(dst)._wrap(ops.lrint(em, x.vtype, dst, x.ir), em)

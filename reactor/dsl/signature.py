@@ -11,7 +11,7 @@ import inspect
 
 from ..errors import DSLTypeError
 from ..ir import emitter as _em
-from .types import KINDS, PointerType, VType
+from ..ir.types import KINDS, PointerType, VType
 from .values import Value, value_class
 
 

@@ -16,12 +16,11 @@ from __future__ import annotations
 import functools
 import numbers
 
-from llvmlite import ir
-
 from ..errors import DSLTypeError, ScopeError, WidthMismatchError
 from ..ir import emitter as _em
 from ..ir import ops
-from .types import KINDS, WIDTHS, Kind, VType
+from ..ir import types as T
+from ..ir.types import KINDS, WIDTHS, Kind, VType
 
 
 class Value:
@@ -39,10 +38,9 @@ class Value:
         if len(args) == 1:
             return cls._wrap(to_ir(args[0], vt, convert=True), em)
         if len(args) == vt.width and vt.width > 1:
-            vec = ir.Constant(vt.ir, ir.Undefined)
+            vec = T.undefined(vt)
             for lane, arg in enumerate(args):
-                scalar = to_ir(arg, vt.with_width(1), convert=True)
-                vec = em.emit("insert_element", vec, scalar, ir.Constant(ir.IntType(32), lane), name="lanes")
+                vec = em.insert(vec, to_ir(arg, vt.with_width(1), convert=True), lane, name="lanes")
             return cls._wrap(vec, em)
         raise DSLTypeError(
             f"{vt.name}(...) takes one value (broadcast or converted) or {vt.width} lane values, "
@@ -50,7 +48,7 @@ class Value:
         )
 
     @classmethod
-    def _wrap(cls, value: ir.Value, em=None):
+    def _wrap(cls, value, em=None):
         """Wrap an IR value produced in the current scope."""
         self = object.__new__(cls)
         em = em or _em.current()
@@ -59,7 +57,7 @@ class Value:
 
     # -- access ---------------------------------------------------------
     @property
-    def ir(self) -> ir.Value:
+    def ir(self):
         """The IR value, after checking it is visible where it is used."""
         em = _em.current()
         if self._emitter is not em:
@@ -90,8 +88,7 @@ class Value:
 
     def named(self, name: str) -> "Value":
         """Give the IR value a readable name (shown in IR dumps); returns self."""
-        if hasattr(self._ir, "name") and not isinstance(self._ir, ir.Constant):
-            self._ir.name = name
+        _em.FunctionEmitter.set_name(self._ir, name)
         return self
 
     def __repr__(self) -> str:
@@ -133,27 +130,27 @@ def vector_type(kind: "str | type[Value]", width: int) -> type[Value]:
 
 # -- coercion ----------------------------------------------------------------
 
-def _python_constant(x, vt: VType) -> ir.Constant:
+def _python_constant(x, vt: VType):
     kind = vt.kind
     if isinstance(x, bool) or (hasattr(x, "dtype") and getattr(x, "dtype", None) == bool):
         if kind.category != "bool":
             raise DSLTypeError(f"Python bool {x!r} used where a {vt.name} is expected")
-        return ops.const(vt, int(bool(x)))
+        return T.const(vt, int(bool(x)))
     if kind.category == "bool":
         raise DSLTypeError(f"number {x!r} used where a {vt.name} (mask) is expected; use True/False")
     if kind.is_float:
         if not isinstance(x, numbers.Real):
             raise DSLTypeError(f"{type(x).__name__} {x!r} cannot be a {vt.name} constant")
-        return ops.const(vt, float(x))
+        return T.const(vt, float(x))
     if isinstance(x, numbers.Integral):
         x = int(x)
         if not -(2**31) <= x < 2**32:
             raise DSLTypeError(f"integer constant {x} does not fit in 32 bits ({vt.name})")
-        return ops.const(vt, x - 2**32 if x >= 2**31 else x)
+        return T.const(vt, x - 2**32 if x >= 2**31 else x)
     raise DSLTypeError(f"{type(x).__name__} {x!r} used where an integer {vt.name} is expected")
 
 
-def to_ir(x, vt: VType, *, convert: bool = False) -> ir.Value:
+def to_ir(x, vt: VType, *, convert: bool = False):
     """IR for ``x`` as type ``vt``: constants broadcast, scalars splat.
 
     With ``convert`` (constructors) a value of another kind is converted
@@ -171,8 +168,8 @@ def to_ir(x, vt: VType, *, convert: bool = False) -> ir.Value:
     if xt.width == vt.width:
         return val
     if xt.width == 1:
-        named = getattr(val, "name", "") and not isinstance(val, ir.Constant)
-        return ops.splat(_em.current(), vt.width, val, name=f"{val.name}.splat" if named else "splat")
+        named = getattr(val, "name", "") and not T.is_constant(val)
+        return _em.current().splat(val, vt.width, name=f"{val.name}.splat" if named else "splat")
     raise WidthMismatchError(f"a {xt.name} cannot become a {vt.name}: widths {xt.width} and {vt.width}")
 
 
@@ -194,18 +191,11 @@ def common_type(*args, what: str) -> VType:
 
 
 def _lookup(table: dict, name: str, vt: VType, what: str):
-    recipes = table[name]
-    recipe = recipes.get(vt.kind.category)
+    recipe = ops.lookup(table, name, vt)
     if recipe is None:
-        kinds = sorted({k.name for k in KINDS.values() if k.category in recipes})
+        kinds = sorted({k.name for k in KINDS.values() if k.category in table[name]})
         raise DSLTypeError(f"{what} is not defined for {vt.name} (only for {', '.join(kinds)})")
     return recipe
-
-
-def apply(recipe, em, vt, *irs, name=""):
-    if isinstance(recipe, str):
-        return em.emit(recipe, *irs, name=name or recipe.rstrip("_"))
-    return recipe(em, vt, *irs)
 
 
 def binary(name: str, a, b, what: str | None = None) -> Value:
@@ -214,7 +204,7 @@ def binary(name: str, a, b, what: str | None = None) -> Value:
     vt = common_type(a, b, what=what)
     recipe = _lookup(ops.BINARY, name, vt, what)
     em = _em.current()
-    return value_class(vt)._wrap(apply(recipe, em, vt, to_ir(a, vt), to_ir(b, vt), name=name), em)
+    return value_class(vt)._wrap(ops.apply(recipe, em, vt, to_ir(a, vt), to_ir(b, vt), name=name), em)
 
 
 def unary(name: str, a, what: str | None = None) -> Value:
@@ -222,7 +212,7 @@ def unary(name: str, a, what: str | None = None) -> Value:
     vt = common_type(a, what=what)
     recipe = _lookup(ops.UNARY, name, vt, what)
     em = _em.current()
-    return value_class(vt)._wrap(apply(recipe, em, vt, to_ir(a, vt), name=name), em)
+    return value_class(vt)._wrap(ops.apply(recipe, em, vt, to_ir(a, vt), name=name), em)
 
 
 def comparison(name: str, a, b) -> Value:

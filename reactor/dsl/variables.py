@@ -15,11 +15,11 @@ from __future__ import annotations
 
 import functools
 
-from llvmlite import ir
-
 from ..errors import DSLTypeError, ScopeError
 from ..ir import emitter as _em
-from .types import PointerType, VType
+from ..ir import ops
+from ..ir import types as T
+from ..ir.types import PointerType, VType
 from .values import Value, binary, to_ir, value_class
 
 
@@ -37,8 +37,8 @@ class _VariableMixin:
         return slot
 
     @property
-    def ir(self) -> ir.Value:
-        return _em.current().emit("load", self._slot(), name=self._name)
+    def ir(self):
+        return _em.current().load(self._slot(), name=self._name)
 
     @property
     def value(self) -> Value:
@@ -47,7 +47,7 @@ class _VariableMixin:
 
     def set(self, value) -> "Variable":
         """Store ``value`` (converted only if it is a Python constant or a broadcast scalar)."""
-        _em.current().emit("store", to_ir(value, self.vtype), self._slot())
+        _em.current().store(to_ir(value, self.vtype), self._slot())
         return self
 
     def named(self, name):
@@ -89,7 +89,7 @@ def Variable(type_or_value, init=None, name: str = "var"):
     em = _em.current()
     init_ir = to_ir(0 if init is None and not vtype.kind.category == "bool" else (False if init is None else init), vtype)
     slot = em.alloca(vtype.ir, name=name)
-    init_store = em.emit("store", init_ir, slot)
+    init_store = em.store(init_ir, slot)
     var = _variable_class(vtype)._wrap(slot, em)
     var._name, var._init = name, init_store
     return var
@@ -104,7 +104,7 @@ class PointerValue:
 
     __slots__ = ("ptype", "_ir", "_emitter", "written")
 
-    def __init__(self, ptype: PointerType, value: ir.Value, em):
+    def __init__(self, ptype: PointerType, value, em):
         self.ptype, self._ir, self._emitter = ptype, value, em
         self.written = False  # stored through (here or by a called function): needs a writeable array
 
@@ -115,38 +115,29 @@ class PointerValue:
                              f"used while building '{em.function.name}'")
         return em, self._ir
 
-    def _address(self, index, elem_ir):
+    def _address(self, index, vt: VType):
+        """The address of scalar element ``index`` (an int or a scalar Int/UInt value)."""
         em, base = self._ptr()
         if isinstance(index, Value):
             if not index.kind.is_integer or index.width != 1:
                 raise DSLTypeError(f"pointer index must be a scalar Int or UInt, not {index.vtype.name}")
-            ext = "sext" if index.kind.signed else "zext"
-            idx = em.emit(ext, index.ir, ir.IntType(64), name="idx")
+            idx = ops.convert(em, index.vtype, T.INDEX, index.ir)
         elif isinstance(index, int) and not isinstance(index, bool):
-            idx = ir.Constant(ir.IntType(64), index)
+            idx = index
         else:
             raise DSLTypeError(f"pointer index must be an int or an Int value, not {index!r}")
-        addr = em.emit("bitcast", base, elem_ir.as_pointer(), name="p") if base.type.pointee != elem_ir else base
-        return em, em.emit("gep", addr, [idx], inbounds=True, name="addr")
+        elem = vt.with_width(1) if vt.kind.category != "bool" else T.BYTE
+        return em, em.address(em.cast_pointer(base, elem), idx)
 
     def _load(self, index, vt: VType):
-        em, addr = self._address(index, vt.kind.mem_type)
-        if vt.width > 1:
-            addr = em.emit("bitcast", addr, vt.mem_ir.as_pointer(), name="vaddr")
-        raw = em.emit("load", addr, name="load", align=vt.kind.mem_bytes)
-        if vt.kind.category == "bool":
-            raw = em.emit("icmp_unsigned", "!=", raw, ir.Constant(vt.mem_ir, 0 if vt.width == 1 else [0] * vt.width), name="bool")
-        return value_class(vt)._wrap(raw, em)
+        em, addr = self._address(index, vt)
+        return value_class(vt)._wrap(ops.load(em, vt, addr), em)
 
     def _store(self, index, value, vt: VType):
         val = to_ir(value, vt)
-        em, addr = self._address(index, vt.kind.mem_type)
+        em, addr = self._address(index, vt)
         self.written = True
-        if vt.width > 1:
-            addr = em.emit("bitcast", addr, vt.mem_ir.as_pointer(), name="vaddr")
-        if vt.kind.category == "bool":
-            val = em.emit("zext", val, vt.mem_ir, name="byte")
-        em.emit("store", val, addr, align=vt.kind.mem_bytes)
+        ops.store(em, vt, val, addr)
 
     def _scaled(self, index):
         w = self.ptype.pointee.width
@@ -176,3 +167,8 @@ class PointerValue:
 
     def __repr__(self):
         return f"<{self.ptype.name}>"
+
+
+def is_variable(x) -> bool:
+    """Whether ``x`` is a ``Variable`` (mutable) rather than a plain value."""
+    return isinstance(x, _VariableMixin)

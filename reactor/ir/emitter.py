@@ -1,22 +1,30 @@
-"""The only module that drives llvmlite's ``IRBuilder``.
+"""The only module that drives llvmlite's ``IRBuilder``: reactor's seam to LLVM.
 
-A ``ModuleEmitter`` owns one ``ir.Module``; a ``FunctionEmitter`` owns one
-function being built: its blocks, its entry-block stack slots (so mem2reg
-turns variables into SSA values, as Reactor does), its scopes (which values
-are still visible), and the instruction cursor. The DSL layers above never see
-an ``IRBuilder``; they call the methods here.
+A ``ModuleEmitter`` owns one ``ir.Module`` and the ``Build`` (settings) it is
+built with; a ``FunctionEmitter`` owns one function being built: its blocks,
+its entry-block stack slots (so mem2reg turns variables into SSA values, as
+Reactor does), its scopes (which values are still visible), the settings in
+effect (a stack of immutable ``Build`` objects for ``fma_mode``/``precision``
+blocks) and the instruction cursor.
+
+The layers above never see an ``IRBuilder`` or an llvmlite type: they call the
+named, typed operations here (the vocabulary of SwiftShader's Nucleus and of
+IRBuilder: ``fadd``, ``icmp``, ``load``, ``address`` ...), name types with
+``reactor.ir.types`` and semantic operations with ``reactor.ir.ops``.
 
 The emitter of the function being built is thread-local: each thread builds
 with its own emitter stack, so building is thread-safe.
 """
 from __future__ import annotations
 
+import contextlib
 import itertools
 import threading
 
 from llvmlite import ir
 
 from ..errors import ControlFlowError, ScopeError
+from . import types as T
 
 _tls = threading.local()
 
@@ -55,18 +63,13 @@ class Scope:
 
 
 class ModuleEmitter:
-    """One LLVM module: a compilation unit holding several functions."""
+    """One LLVM module: a compilation unit holding several functions, built with one ``Build``."""
 
-    _ids = itertools.count()
-
-    def __init__(self, name: str, options):
-        self.options = options  # resolved BuildOptions
+    def __init__(self, name: str, build):
+        self.build = build
         self.module = ir.Module(name=name)
-        from ..jit.target import get_target
-
-        target = get_target(options.target)
-        self.module.triple = target.triple
-        self.module.data_layout = str(target.machine.target_data)
+        self.module.triple = build.target.triple
+        self.module.data_layout = build.target.data_layout
         self.functions: dict[object, ir.Function] = {}
         self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
         self.written: dict[object, frozenset] = {}  # (Function, width) -> pointer parameters it stores to
@@ -79,30 +82,78 @@ class ModuleEmitter:
             if f"{base}.{i}" not in names:
                 return f"{base}.{i}"
 
-    def declare(self, name: str, ret: ir.Type, args: list[ir.Type]) -> ir.Function:
-        """Declare an external or intrinsic function once per module."""
+    def declare(self, name: str, ret, args) -> ir.Function:
+        """Declare an external or intrinsic function once per module (types: reactor
+        types or, inside ``reactor.ir``, LLVM types)."""
         try:
             return self.module.get_global(name)
         except KeyError:
-            return ir.Function(self.module, ir.FunctionType(ret, args), name=name)
+            fnty = ir.FunctionType(_llvm(ret), [_llvm(a) for a in args])
+            return ir.Function(self.module, fnty, name=name)
+
+    @property
+    def text(self) -> str:
+        """The module's IR as text."""
+        return str(self.module)
+
+
+def _llvm(t) -> ir.Type:
+    if t is None:
+        return ir.VoidType()
+    return t if isinstance(t, ir.Type) else t.ir
+
+
+def _same_type(what: str, *values) -> None:
+    types = {str(v.type) for v in values}
+    if len(types) > 1:
+        raise TypeError(f"{what}: operand types differ ({', '.join(sorted(types))})")
+
+
+# Binary instructions: emitter method -> (IRBuilder method, operand category).
+_BINARY = {
+    "add": ("add", "int"), "sub": ("sub", "int"), "mul": ("mul", "int"),
+    "sdiv": ("sdiv", "int"), "udiv": ("udiv", "int"), "srem": ("srem", "int"), "urem": ("urem", "int"),
+    "and_": ("and_", "int"), "or_": ("or_", "int"), "xor": ("xor", "int"),
+    "shl": ("shl", "int"), "ashr": ("ashr", "int"), "lshr": ("lshr", "int"),
+    "fadd": ("fadd", "float"), "fsub": ("fsub", "float"), "fmul": ("fmul", "float"), "fdiv": ("fdiv", "float"),
+}
+# Conversions: emitter method -> IRBuilder method.
+_CASTS = ("fptosi", "fptoui", "sitofp", "uitofp", "fpext", "fptrunc", "zext", "sext", "trunc",
+          "bitcast", "ptrtoint")
+
+
+def _element(t: ir.Type) -> ir.Type:
+    return t.element if isinstance(t, ir.VectorType) else t
+
+
+def _category(t: ir.Type) -> str:
+    e = _element(t)
+    return "float" if isinstance(e, (ir.FloatType, ir.DoubleType, ir.HalfType)) else "int"
 
 
 class FunctionEmitter:
-    """Builds the body of one LLVM function."""
+    """Builds the body of one LLVM function at one SIMD ``width``.
 
-    def __init__(self, module: ModuleEmitter, name: str, ret: ir.Type, args: list[ir.Type],
-                 arg_names: list[str], *, internal: bool = False, width: int | None = None):
+    ``params``/``ret`` are reactor types (``VType``, ``PointerType``,
+    ``StructType``; ``ret=None`` is void). ``internal`` functions are private
+    to the module; ``inline`` is "always", "never" or None (LLVM decides).
+    """
+
+    def __init__(self, module: ModuleEmitter, name: str, ret, params, param_names, *,
+                 width: int | None = None, internal: bool = False, inline: str | None = None):
         self.module = module
-        self.options = module.options
-        self.width = width or module.options.width
-        self.fma = module.options.fma  # what MulAdd emits; see reactor.fma_mode
-        fnty = ir.FunctionType(ret, args)
+        self.width = width or module.build.width
+        self._settings = [module.build]
+        fnty = ir.FunctionType(_llvm(ret), [_llvm(p) for p in params])
         self.function = ir.Function(module.module, fnty, name=name)
-        for arg, argname in zip(self.function.args, arg_names):
+        for arg, argname in zip(self.function.args, param_names):
             arg.name = argname
         if internal:
             self.function.linkage = "internal"
+        if inline == "always":
             self.function.attributes.add("alwaysinline")
+        elif inline == "never":
+            self.function.attributes.add("noinline")
         self.function.attributes.add("nounwind")
         self._entry = self.function.append_basic_block("entry")
         body = self.function.append_basic_block("body")
@@ -113,8 +164,17 @@ class FunctionEmitter:
         self.root_scope = self.scope
         self.ret_type = ret
         self.pending_chain = None  # (else_block, merge_block, mark) after an If/Elif
-        self.dsl_function = None  # the reactor Function being built (set by its builder)
+        self.dsl_function = None  # what is being built (set by its builder; see dsl/control.Return)
         self.unentered: list = []  # blocks (If, For, ...) created but not yet entered with `with`
+
+    @property
+    def name(self) -> str:
+        return self.function.name
+
+    @property
+    def params(self) -> list:
+        """The function's parameters (IR values)."""
+        return list(self.function.args)
 
     # -- activation -----------------------------------------------------
     def __enter__(self):
@@ -125,16 +185,59 @@ class FunctionEmitter:
         popped = _stack().pop()
         assert popped is self
 
-    # -- raw emission ---------------------------------------------------
-    def emit(self, method: str, *args, **kwargs):
-        """Call ``IRBuilder.<method>`` at the cursor (e.g. ``emit("fadd", a, b)``)."""
-        return getattr(self._b, method)(*args, **kwargs)
+    # -- settings -------------------------------------------------------------
+    @property
+    def settings(self):
+        """The ``Build`` in effect at the cursor (the module's, or a block's override)."""
+        return self._settings[-1]
 
-    def call(self, fn: ir.Function, args, name: str = ""):
-        return self._b.call(fn, args, name=name)
+    @contextlib.contextmanager
+    def overriding(self, **changes):
+        """Emit the block with some settings changed (e.g. ``fma=False``)."""
+        self._settings.append(self.settings.replace(**changes))
+        try:
+            yield self.settings
+        finally:
+            self._settings.pop()
 
-    def intrinsic(self, name: str, ret: ir.Type, args: list[ir.Type]) -> ir.Function:
-        return self.module.declare(name, ret, args)
+    # -- arithmetic and logic ----------------------------------------------------
+    def _binary(self, op: str, a, b, name: str):
+        method, category = _BINARY[op]
+        _same_type(op, a, b)
+        if _category(a.type) != category:
+            raise TypeError(f"{op} needs {category} operands, not {a.type}")
+        return getattr(self._b, method)(a, b, name=name or op.rstrip("_"))
+
+    def neg(self, a, name="neg"):
+        return self._b.neg(a, name=name)
+
+    def fneg(self, a, name="fneg"):
+        return self._b.fneg(a, name=name)
+
+    def icmp(self, pred: str, a, b, *, signed: bool, name: str = "cmp"):
+        """Integer comparison (``pred`` one of < <= > >= == !=)."""
+        _same_type("icmp", a, b)
+        return (self._b.icmp_signed if signed else self._b.icmp_unsigned)(pred, a, b, name=name)
+
+    def fcmp(self, pred: str, a, b, *, ordered: bool = True, name: str = "cmp"):
+        """Float comparison: ordered (false on NaN) or unordered (true on NaN); ``pred``
+        one of < <= > >= == != or "uno"/"ord"."""
+        _same_type("fcmp", a, b)
+        return (self._b.fcmp_ordered if ordered else self._b.fcmp_unordered)(pred, a, b, name=name)
+
+    def select(self, cond, a, b, name: str = "select"):
+        _same_type("select", a, b)
+        return self._b.select(cond, a, b, name=name)
+
+    def convert(self, op: str, value, to, name: str = "conv"):
+        """A conversion instruction (``op`` one of fptosi fptoui sitofp uitofp fpext
+        fptrunc zext sext trunc bitcast ptrtoint) to reactor type ``to``."""
+        if op not in _CASTS:
+            raise ValueError(f"unknown conversion {op!r}")
+        return getattr(self._b, op)(value, _llvm(to), name=name)
+
+    def bitcast(self, value, to, name: str = "cast"):
+        return self._b.bitcast(value, _llvm(to), name=name)
 
     def freeze(self, value, name: str = ""):
         """``freeze``: turn a possibly-poison value into an arbitrary fixed one."""
@@ -142,11 +245,90 @@ class FunctionEmitter:
         self._b._insert(instr)
         return instr
 
-    def alloca(self, ty: ir.Type, name: str):
-        """A stack slot in the entry block (promoted to registers by mem2reg)."""
+    # -- vectors ----------------------------------------------------------------------
+    def extract(self, vector, index, name: str = "lane"):
+        """Lane ``index`` (an int or an i32 value) of ``vector``."""
+        return self._b.extract_element(vector, _i32(index), name=name)
+
+    def insert(self, vector, scalar, index, name: str = "insert"):
+        return self._b.insert_element(vector, scalar, _i32(index), name=name)
+
+    def shuffle(self, a, b, lanes, name: str = "shuffle"):
+        """Lanes of the concatenation ``a ++ b`` picked by the Python ints ``lanes``."""
+        mask = ir.Constant(ir.VectorType(ir.IntType(32), len(lanes)), [ir.Constant(ir.IntType(32), i)
+                                                                       for i in lanes])
+        return self._b.shuffle_vector(a, b, mask, name=name)
+
+    def splat(self, scalar, width: int, name: str = "splat"):
+        """Broadcast a scalar to ``width`` lanes (width 1: unchanged)."""
+        if width == 1:
+            return scalar
+        undef = ir.Constant(ir.VectorType(scalar.type, width), ir.Undefined)
+        one = self._b.insert_element(undef, scalar, ir.Constant(ir.IntType(32), 0), name=name)
+        return self.shuffle(one, undef, [0] * width, name=name)
+
+    def pack(self, struct: "T.StructType", values, name: str = "results"):
+        """A struct value holding ``values``."""
+        agg = ir.Constant(struct.ir, ir.Undefined)
+        for i, v in enumerate(values):
+            agg = self._b.insert_value(agg, v, i, name=name)
+        return agg
+
+    def unpack(self, value, count: int, name: str = "result"):
+        return [self._b.extract_value(value, i, name=f"{name}{i}") for i in range(count)]
+
+    # -- memory -------------------------------------------------------------------------
+    def alloca(self, t, name: str, count: int = 1):
+        """A stack slot (``count`` elements) in the entry block (promoted to registers by mem2reg)."""
         with self._b.goto_block(self._entry):
             self._b.position_at_start(self._entry)
-            return self._b.alloca(ty, name=name)
+            size = None if count == 1 else ir.Constant(ir.IntType(64), count)
+            return self._b.alloca(_llvm(t), size=size, name=name)
+
+    def load(self, ptr, *, align: int | None = None, name: str = "load"):
+        return self._b.load(ptr, name=name, align=align)
+
+    def store(self, value, ptr, *, align: int | None = None):
+        return self._b.store(value, ptr, align=align)
+
+    def address(self, ptr, index, name: str = "addr"):
+        """``&ptr[index]`` (in elements of the pointee; ``index`` an int or an i64 value)."""
+        idx = ir.Constant(ir.IntType(64), index) if isinstance(index, int) else index
+        return self._b.gep(ptr, [idx], inbounds=True, name=name)
+
+    def field(self, ptr, index: int, name: str = "field"):
+        """``&ptr->field[index]`` of a pointer to a struct."""
+        return self._b.gep(ptr, [ir.Constant(ir.IntType(32), 0), ir.Constant(ir.IntType(32), index)], name=name)
+
+    def cast_pointer(self, ptr, pointee, name: str = "p"):
+        """``ptr`` seen as a pointer to ``pointee`` (a reactor type)."""
+        target = _llvm(pointee).as_pointer()
+        return ptr if ptr.type == target else self._b.bitcast(ptr, target, name=name)
+
+    # -- calls ---------------------------------------------------------------------------
+    def call(self, fn, args, name: str = "", inline: str | None = None):
+        """Call ``fn``; ``inline`` "always"/"never" marks this call site only."""
+        instr = self._b.call(fn, args, name=name)
+        if inline == "always":
+            instr.attributes.add("alwaysinline")
+        elif inline == "never":
+            instr.attributes.add("noinline")
+        return instr
+
+    def call_pointer(self, ptr, like, args, name: str = ""):
+        """Call the function at address ``ptr`` (any pointer), which has the type of function ``like``."""
+        fn = self._b.bitcast(ptr, like.function_type.as_pointer(), name="fnptr")
+        return self._b.call(fn, args, name=name)
+
+    def intrinsic(self, name: str, ret, args) -> ir.Function:
+        return self.module.declare(name, ret, args)
+
+    # -- names ----------------------------------------------------------------------------
+    @staticmethod
+    def set_name(value, name: str) -> None:
+        """Give an instruction a readable name (shown in IR dumps); constants keep none."""
+        if hasattr(value, "name") and not isinstance(value, ir.Constant):
+            value.name = name
 
     # -- blocks ----------------------------------------------------------
     @property
@@ -162,6 +344,11 @@ class FunctionEmitter:
     def goto(self, block: ir.Block) -> None:
         self._b.position_at_end(block)
 
+    position_at = goto
+
+    def branch(self, target: ir.Block) -> None:
+        self._b.branch(target)
+
     def branch_to(self, target: ir.Block) -> None:
         """Branch to ``target`` unless the current block already ended (e.g. Return)."""
         if not self._b.block.is_terminated:
@@ -169,6 +356,13 @@ class FunctionEmitter:
 
     def cbranch(self, cond, then_block: ir.Block, else_block: ir.Block) -> None:
         self._b.cbranch(cond, then_block, else_block)
+
+    def phi(self, t, incoming, name: str = "phi"):
+        """A phi node of reactor type ``t`` with ``[(value, block), ...]``."""
+        node = self._b.phi(_llvm(t), name=name)
+        for value, block in incoming:
+            node.add_incoming(value, block)
+        return node
 
     def ret(self, value) -> None:
         if value is None:
@@ -179,7 +373,7 @@ class FunctionEmitter:
         # a block of its own so emission can continue.
         self._b.position_at_end(self.new_block("after.return"))
 
-    # -- If-chain bookkeeping (see control.py) ----------------------------
+    # -- If-chain bookkeeping (see dsl/control.py) ----------------------------
     def claim_since_chain(self, else_block: ir.Block, merge: ir.Block, mark: int) -> None:
         """Move instructions emitted into ``merge`` since ``mark`` to ``else_block``.
 
@@ -201,6 +395,10 @@ class FunctionEmitter:
             block.instructions.remove(block.terminator)
             block.terminator = None
         self._b.position_at_end(block)
+
+    def mark(self) -> int:
+        """How many instructions the current block holds (for ``claim_since_chain``)."""
+        return len(self._b.block.instructions)
 
     # -- scopes -----------------------------------------------------------
     def in_chain(self, value) -> bool:
@@ -265,5 +463,18 @@ class FunctionEmitter:
                 self._b.unreachable()
         return open_blocks
 
-    def position_at(self, block: ir.Block) -> None:
-        self._b.position_at_end(block)
+
+def _i32(index):
+    return ir.Constant(ir.IntType(32), index) if isinstance(index, int) else index
+
+
+def _install_binary() -> None:
+    for op in _BINARY:
+        def method(self, a, b, name: str = "", _op=op):
+            return self._binary(_op, a, b, name)
+        method.__name__ = op
+        method.__doc__ = f"``{_BINARY[op][0].rstrip('_')}`` of two {_BINARY[op][1]} operands of one type."
+        setattr(FunctionEmitter, op, method)
+
+
+_install_binary()

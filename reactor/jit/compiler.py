@@ -1,11 +1,13 @@
 """LLVM: verify, optimize, emit machine code, and load it into the process.
 
-``compile_ir(ir_text, target, opt, exports)`` returns a ``CompiledCode`` whose
-``address(name)`` gives callable addresses. Object code is cached by a key
-over the IR text, the target (CPU name and features) and the options: first in
-memory, then on disk (``cache.py``), so a new process that builds the same IR
-skips LLVM entirely. Compilation is serialized by one lock; building IR is not
-(each thread builds its own functions).
+``CompiledCode(ir_text, target, opt, exports)`` holds the machine code of one
+module; ``address(name)`` gives callable addresses. Object code is cached by a
+key over the IR text, the target (CPU name and features) and the options:
+first in memory, then on disk (``cache.py``), so a new process that builds the
+same IR skips LLVM entirely. ``pipeline`` is the one path from IR text to an
+optimized module; the object code, the optimized IR and the assembly all come
+from it. Compilation is serialized by one lock; building IR is not (each
+thread builds its own functions).
 
 Machine code is freed when its ``CompiledCode`` is garbage-collected.
 """
@@ -20,12 +22,12 @@ import llvmlite
 import llvmlite.binding as llvm
 
 from ..errors import CompileError, ReactorError
+from ..targets import Target, host_features
 from . import cache
-from .target import Target
 
 _lock = threading.RLock()
 _library_ids = itertools.count()
-CACHE_VERSION = "2"  # bump when the pipeline or the cache file format changes
+CACHE_VERSION = "3"  # bump when the pipeline or the cache file format changes
 
 
 @functools.cache
@@ -41,31 +43,22 @@ def cache_key(ir_text: str, target: Target, opt: int) -> str:
     return h.hexdigest()
 
 
-def _parse(ir_text: str) -> llvm.ModuleRef:
-    try:
-        mod = llvm.parse_assembly(ir_text)
-        mod.verify()
-    except RuntimeError as exc:
-        raise CompileError(f"LLVM rejected the generated IR: {exc}") from None
-    return mod
-
-
-def _optimize(mod: llvm.ModuleRef, target: Target, opt: int) -> None:
-    pto = llvm.create_pipeline_tuning_options(speed_level=opt)
-    pto.loop_vectorization = False  # DSL code is explicitly vectorized
-    pto.slp_vectorization = False
-    # Build-time Python loops unroll DSL code; LLVM's runtime unrolling of the
-    # kernel loops costs ~30% of compile time and gains no measurable speed.
-    pto.loop_unrolling = False
-    pb = llvm.create_pass_builder(target.machine, pto)
-    pb.getModulePassManager().run(mod, pb)
-
-
-def optimized_module(ir_text: str, target: Target, opt: int) -> llvm.ModuleRef:
-    """Parse, verify and optimize; the result's ``str()`` is the optimized IR."""
+def pipeline(ir_text: str, target: Target, opt: int) -> llvm.ModuleRef:
+    """Parse, verify and optimize IR text for ``target`` at level ``opt``."""
     with _lock:
-        mod = _parse(ir_text)
-        _optimize(mod, target, opt)
+        try:
+            mod = llvm.parse_assembly(ir_text)
+            mod.verify()
+        except RuntimeError as exc:
+            raise CompileError(f"LLVM rejected the generated IR: {exc}") from None
+        pto = llvm.create_pipeline_tuning_options(speed_level=opt)
+        pto.loop_vectorization = False  # DSL code is explicitly vectorized
+        pto.slp_vectorization = False
+        # Build-time Python loops unroll DSL code; LLVM's runtime unrolling of the
+        # kernel loops costs ~30% of compile time and gains no measurable speed.
+        pto.loop_unrolling = False
+        pb = llvm.create_pass_builder(target.machine, pto)
+        pb.getModulePassManager().run(mod, pb)
         return mod
 
 
@@ -83,9 +76,8 @@ class CompiledCode:
             self.source = "disk cache"
         if obj is None:
             self.source = "compiled"
+            mod = pipeline(ir_text, target, opt)
             with _lock:
-                mod = _parse(ir_text)
-                _optimize(mod, target, opt)
                 obj = target.machine.emit_object(mod)
             if use_disk_cache:
                 cache.disk_put(self.key, obj)
@@ -106,22 +98,16 @@ class CompiledCode:
     def address(self, name: str) -> int:
         if not self.target.runnable:
             raise ReactorError(f"code built for target '{self.target.name}' cannot run on this CPU "
-                               f"(it lacks {', '.join(sorted(set(self.target.required) - set(_host())))}); "
+                               f"(it lacks {', '.join(sorted(set(self.target.required) - host_features()))}); "
                                f"inspect its assembly instead")
         return self._addresses[name]
 
     @functools.cached_property
     def optimized_ir(self) -> str:
-        return str(optimized_module(self.ir_text, self.target, self.opt))
+        return str(pipeline(self.ir_text, self.target, self.opt))
 
     @functools.cached_property
     def assembly(self) -> str:
+        mod = pipeline(self.ir_text, self.target, self.opt)
         with _lock:
-            mod = _parse(self.ir_text)
-            _optimize(mod, self.target, self.opt)
             return self.target.machine.emit_assembly(mod)
-
-
-def _host():
-    from .target import _host_features
-    return _host_features()

@@ -20,13 +20,14 @@ import ctypes
 import threading
 import weakref
 
+from ..build import Build, current_options
 from ..dsl.signature import Signature
-from ..dsl.types import PointerType, VType
 from ..errors import DSLTypeError, ReactorError
 from ..ir import emitter as _em
-from ..options import BuildOptions, current_options
+from ..ir.types import PointerType, VType
+from ..jit.compiler import CompiledCode
 from . import parallel
-from .loop import LoopEmitter, emit_dispatcher
+from .loop import LoopEmitter, emit_body, emit_dispatcher
 from .ufunc_api import make_ufunc
 
 _registry: "dict[int, weakref.ref[Kernel]]" = {}
@@ -37,19 +38,18 @@ _memo: "dict[tuple, weakref.ref]" = {}
 class Kernel:
     """A compiled kernel: its ufunc's machine code and how it was made."""
 
-    def __init__(self, body, name: str, signature: Signature, options: BuildOptions):
-        from ..jit.compiler import CompiledCode
-        from ..jit.target import get_target
-
-        self.name, self.options = name, options
+    def __init__(self, body, name: str, signature: Signature, build: Build):
+        self.name, self.build = name, build
         ins, outs = _kinds(signature, name)
         self.in_kinds, self.out_kinds = ins, outs
-        module = _em.ModuleEmitter(name, options)
+        module = _em.ModuleEmitter(name, build)
         loop_name, entry_name = f"{name}.loop", f"{name}.ufunc"
-        serial = LoopEmitter(module, loop_name, body, ins, outs, options.width).emit()
+        vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
+        scalar = emit_body(module, name, body, ins, outs, 1)
+        serial = LoopEmitter(module, loop_name, vector, scalar, ins, outs, build.width).emit()
         emit_dispatcher(module, entry_name, serial)
-        self.code = CompiledCode(str(module.module), get_target(options.target), options.opt,
-                                 (loop_name, entry_name), options.cache, module.imports)
+        self.code = CompiledCode(module.text, build.target, build.opt, (loop_name, entry_name), build.cache,
+                                 module.imports)
         self._loop = self.code.address(entry_name)
         self.config = parallel.make_config(self.code.address(loop_name), len(ins) + len(outs))
         self._signature = [[k.dtype for k in ins + outs]]
@@ -68,7 +68,7 @@ class Kernel:
         return self.code.assembly
 
     def __repr__(self):
-        return f"<reactor.Kernel {self.name} width={self.options.width} fma={self.options.fma}>"
+        return f"<reactor.Kernel {self.name} {self.build.describe()}>"
 
 
 def _kinds(signature: Signature, name: str):
@@ -91,13 +91,13 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., **opt
 
     name = name or body.__name__
     signature = Signature.from_function(body, args, inspect.Parameter.empty if returns is ... else returns)
-    opts = current_options().merged(**options).resolved()
-    key = (body, name, signature, opts)
+    build = current_options().merged(**options).resolved()
+    key = (body, name, signature, build)
     cached = _memo.get(key)
     cached = cached() if cached is not None else None
     if cached is not None and cached.ufunc_ref() is not None:
         return cached.ufunc_ref()
-    kern = Kernel(body, name, signature, opts)
+    kern = Kernel(body, name, signature, build)
     doc = (body.__doc__ or f"reactor kernel '{name}'").strip()
     kern.ufunc_ref = ref = _UfuncRef()
     ufunc = make_ufunc(name, doc, [kern._loop], kern._signature, len(kern.in_kinds),

@@ -1,256 +1,50 @@
-"""The inner loop of a kernel, emitted as LLVM IR.
+"""A kernel's code: its body, traced once per width, and the loop NumPy calls.
+
+The user's body is traced twice: at the build's width W into an internal
+function ``<name>.body(x0, x1, ...) -> result(s)`` and at width 1 into
+``<name>.body1`` (the same code on scalars: every lane of the vector body
+computes what the scalar body computes, bit for bit).
 
 ``void <name>.loop(char **args, npy_intp *dims, npy_intp *steps, void *data)``
 is NumPy's ufunc loop signature. For ``n = dims[0]`` elements it runs:
 
-* a width-W vector loop when every output is contiguous and every input is
-  contiguous or (for one input at a time) a broadcast scalar (stride 0), as in
-  ``pow(x, 2.2)``; the last ``n % W`` elements go through the same body with
-  masked loads and stores. Not when an output starts inside an input, ahead
-  of it (``ufunc.accumulate`` passes ``out[i-1]`` as input ``i``);
-* otherwise a scalar loop that follows arbitrary (negative, zero, unaligned
-  multiple) strides.
+* the **vector loop**, W elements per iteration, with the vector body inlined,
+  when every output is contiguous and every input is contiguous or a
+  broadcast scalar (stride 0: its value is splatted into a W-element buffer
+  once, so one loop serves every mix of the two, as in ``pow(x, 2.2)``), and
+  no output starts inside an input ahead of it (``ufunc.accumulate`` passes
+  ``out[i-1]`` as input ``i``);
+* then the **scalar loop** for whatever is left: the last ``n % W`` elements
+  of the vector loop, or every element when an operand is strided or the
+  operands overlap, one element at a time in order (so accumulations see each
+  result before the next element reads it), at any strides.
 
-Floating-point exception flags are saved on entry and restored on exit (x86
-MXCSR): masked-off tail lanes and the routines' special-value paths compute on
-values whose flags mean nothing, so kernels report no floating-point warnings
-through NumPy's ``errstate``.
+So the body is compiled twice (once per width) however many inputs and
+layouts the kernel has; every element of the vector loop holds real data.
 
-The user's body is traced once per path, at the path's width.
+Floating-point exception flags are saved on entry and restored on exit: the
+routines' special-value paths compute on values whose flags mean nothing,
+so kernels report no floating-point warnings through NumPy's ``errstate``.
 """
 from __future__ import annotations
 
-from llvmlite import ir
-
-from ..dsl.types import VType
 from ..dsl.values import to_ir, value_class
 from ..errors import DSLTypeError, at_return_of
 from ..ir import emitter as _em
-from ..ir import ops
+from ..ir import ops, x86
+from ..ir import types as T
+from ..ir.types import INDEX, KINDS, VType
 
-I64 = ir.IntType(64)
-I32 = ir.IntType(32)
-I8P = ir.IntType(8).as_pointer()
-
-
-def _c64(v):
-    return ir.Constant(I64, v)
+BOOL = KINDS["Bool"]
+LOOP_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), T.BYTES]
+LOOP_NAMES = ["args", "dims", "steps", "data"]
 
 
-class LoopEmitter:
-    """Emits the loop function for a kernel body in a module."""
-
-    def __init__(self, module, name: str, body, in_kinds, out_kinds, width: int):
-        self.body, self.ins, self.outs, self.width = body, in_kinds, out_kinds, width
-        self.em = _em.FunctionEmitter(module, name, ir.VoidType(),
-                                      [I8P.as_pointer(), I64.as_pointer(), I64.as_pointer(), I8P],
-                                      ["args", "dims", "steps", "data"])
-        self.em.dsl_function = _KernelBody(name.removesuffix(".loop"))
-
-    def emit(self) -> ir.Function:
-        from ..dsl.control import check_python_returns
-        check_python_returns(self.body)
-        em = self.em
-        with em:
-            args, dims, steps, _ = em.function.args
-            nargs = len(self.ins) + len(self.outs)
-            self.n = em.emit("load", dims, name="n")
-            self.ptrs, self.steps = [], []
-            for k in range(nargs):
-                self.ptrs.append(em.emit("load", em.emit("gep", args, [_c64(k)], name=f"argp{k}"), name=f"arg{k}"))
-                self.steps.append(em.emit("load", em.emit("gep", steps, [_c64(k)], name=f"stepp{k}"), name=f"step{k}"))
-            flags = self._save_fp_flags()
-            end = em.new_block("done")
-            patterns = self._patterns() if self.width > 1 else ()
-            strided = em.new_block("strided")
-            if patterns:
-                layouts = em.new_block("layouts")
-                em.cbranch(self._operands_apart(), layouts, strided)
-                em.goto(layouts)
-            for pattern in patterns:
-                cond = self._pattern_test(pattern)
-                vec, nxt = em.new_block("vector"), em.new_block("next")
-                em.cbranch(cond, vec, nxt)
-                em.goto(vec)
-                self._vector_loop(pattern)
-                em.branch_to(end)
-                em.goto(nxt)
-            em.branch_to(strided)
-            em.goto(strided)
-            self._strided_loop()
-            em.branch_to(end)
-            em.goto(end)
-            self._restore_fp_flags(flags)
-            em.ret(None)
-            em.finish()
-        return em.function
-
-    # -- floating-point status ---------------------------------------------------
-    def _save_fp_flags(self):
-        if not self.em.module.module.triple.startswith(("x86_64", "i686")):
-            return None
-        slot = self.em.alloca(ir.IntType(32), "mxcsr")
-        fn = self.em.intrinsic("llvm.x86.sse.stmxcsr", ir.VoidType(), [I8P])
-        self.em.call(fn, [self.em.emit("bitcast", slot, I8P, name="mxcsr.p")])
-        return slot
-
-    def _restore_fp_flags(self, slot):
-        if slot is not None:
-            fn = self.em.intrinsic("llvm.x86.sse.ldmxcsr", ir.VoidType(), [I8P])
-            self.em.call(fn, [self.em.emit("bitcast", slot, I8P, name="mxcsr.p")])
-
-    # -- layout patterns -----------------------------------------------------
-    def _patterns(self):
-        """Input layouts with a vector path: all contiguous, or one input broadcast."""
-        nin = len(self.ins)
-        pats = [("contig",) * nin]
-        if nin >= 2:
-            for k in range(nin):
-                pats.append(tuple("bcast" if j == k else "contig" for j in range(nin)))
-        return pats
-
-    def _pattern_test(self, pattern):
-        em = self.em
-        cond = ir.Constant(ir.IntType(1), 1)
-        layouts = list(pattern) + ["contig"] * len(self.outs)
-        for k, (layout, kind) in enumerate(zip(layouts, self.ins + self.outs)):
-            want = 0 if layout == "bcast" else kind.mem_bytes
-            ok = em.emit("icmp_signed", "==", self.steps[k], _c64(want), name=f"{layout}{k}")
-            cond = em.emit("and_", cond, ok, name="layout_ok")
-        return cond
-
-    def _operands_apart(self):
-        """No output starts inside the n elements of an input, ahead of the input's
-        start, where the vector loop would read inputs before the strided loop's
-        element-by-element order has written them: ufunc.accumulate passes out[i-1]
-        as input i. (For ordinary calls NumPy copies overlapping operands.)"""
-        em = self.em
-        addr = [em.emit("ptrtoint", p, I64, name=f"addr{k}") for k, p in enumerate(self.ptrs)]
-        ok = ir.Constant(ir.IntType(1), 1)
-        for a, kind in enumerate(self.ins):
-            last = em.emit("sub", em.emit("mul", self.n, _c64(kind.mem_bytes), name="bytes"), _c64(1), name="last")
-            for b in range(len(self.ins), len(self.ptrs)):
-                ahead = em.emit("sub", em.emit("sub", addr[b], addr[a], name="gap"), _c64(1), name="ahead")
-                ok = em.emit("and_", ok, em.emit("icmp_unsigned", ">=", ahead, last, name="apart"), name="apart_ok")
-        return ok
-
-    # -- vector path --------------------------------------------------------------
-    def _vector_loop(self, pattern):
-        em, W = self.em, self.width
-        i = em.alloca(I64, "i")
-        em.emit("store", _c64(0), i)
-        head, body, tail_test = em.new_block("vec.cond"), em.new_block("vec.body"), em.new_block("vec.tail.test")
-        em.branch_to(head)
-        em.goto(head)
-        iv = em.emit("load", i, name="i")
-        room = em.emit("icmp_signed", "<=", em.emit("add", iv, _c64(W), name="i_end"), self.n, name="full")
-        em.cbranch(room, body, tail_test)
-        em.goto(body)
-        iv = em.emit("load", i, name="i")
-        self._vector_step(pattern, iv, mask=None)
-        em.emit("store", em.emit("add", iv, _c64(W), name="i_next"), i)
-        em.branch_to(head)
-        # masked tail
-        em.goto(tail_test)
-        iv = em.emit("load", i, name="i")
-        tail, done = em.new_block("vec.tail"), em.new_block("vec.done")
-        em.cbranch(em.emit("icmp_signed", "<", iv, self.n, name="has_tail"), tail, done)
-        em.goto(tail)
-        lanes = ir.Constant(ir.VectorType(I64, W), [_c64(j) for j in range(W)])
-        idx = em.emit("add", ops.splat(em, W, iv), lanes, name="lane_i")
-        mask = em.emit("icmp_signed", "<", idx, ops.splat(em, W, self.n), name="tail_mask")
-        self._vector_step(pattern, iv, mask=mask)
-        em.branch_to(done)
-        em.goto(done)
-
-    def _vector_step(self, pattern, iv, mask):
-        em, W = self.em, self.width
-        inputs = []
-        for k, (layout, kind) in enumerate(zip(pattern, self.ins)):
-            vt = VType(kind, W)
-            if layout == "bcast":
-                raw = em.emit("load", em.emit("bitcast", self.ptrs[k], kind.mem_type.as_pointer(), name=f"s{k}"),
-                              name=f"in{k}", align=kind.mem_bytes)
-                raw = ops.splat(em, W, raw)
-            else:
-                raw = self._vector_memop(k, kind, iv, mask, None)
-            inputs.append(_from_memory(em, kind, vt, raw, f"x{k}"))
-        results = self._trace(inputs, W)
-        for j, (kind, value) in enumerate(zip(self.outs, results)):
-            k = len(self.ins) + j
-            self._vector_memop(k, kind, iv, mask, _to_memory(em, kind, value))
-
-    def _vector_memop(self, k, kind, iv, mask, store_value):
-        """Load (store_value None) or store W elements of argument k at element iv."""
-        em, W = self.em, self.width
-        mem_vt = ir.VectorType(kind.mem_type, W)
-        off = em.emit("mul", iv, _c64(kind.mem_bytes), name="off")
-        addr = em.emit("gep", self.ptrs[k], [off], name=f"p{k}")
-        vptr = em.emit("bitcast", addr, mem_vt.as_pointer(), name=f"v{k}")
-        align = ir.Constant(I32, kind.mem_bytes)
-        if mask is None:
-            if store_value is None:
-                return em.emit("load", vptr, name=f"in{k}", align=kind.mem_bytes)
-            return em.emit("store", store_value, vptr, align=kind.mem_bytes)
-        vt_name = ops.mangle(mem_vt)
-        if store_value is None:
-            passthru = ir.Constant(mem_vt, None)
-            fn = em.intrinsic(f"llvm.masked.load.{vt_name}.p0", mem_vt,
-                              [mem_vt.as_pointer(), I32, mask.type, mem_vt])
-            return em.call(fn, [vptr, align, mask, passthru], name=f"in{k}")
-        fn = em.intrinsic(f"llvm.masked.store.{vt_name}.p0", ir.VoidType(),
-                          [mem_vt, mem_vt.as_pointer(), I32, mask.type])
-        return em.call(fn, [store_value, vptr, align, mask])
-
-    # -- strided path -------------------------------------------------------
-    def _strided_loop(self):
-        em = self.em
-        i = em.alloca(I64, "j")
-        em.emit("store", _c64(0), i)
-        head, body, done = em.new_block("strided.cond"), em.new_block("strided.body"), em.new_block("strided.done")
-        em.branch_to(head)
-        em.goto(head)
-        iv = em.emit("load", i, name="j")
-        em.cbranch(em.emit("icmp_signed", "<", iv, self.n, name="more"), body, done)
-        em.goto(body)
-        iv = em.emit("load", i, name="j")
-        addrs = []
-        for k, kind in enumerate(self.ins + self.outs):
-            off = em.emit("mul", iv, self.steps[k], name="off")
-            addrs.append(em.emit("bitcast", em.emit("gep", self.ptrs[k], [off], name=f"q{k}"),
-                                 kind.mem_type.as_pointer(), name=f"e{k}"))
-        inputs = []
-        for k, kind in enumerate(self.ins):
-            raw = em.emit("load", addrs[k], name=f"in{k}", align=1)
-            inputs.append(_from_memory(em, kind, VType(kind, 1), raw, f"x{k}"))
-        results = self._trace(inputs, 1)
-        for j, (kind, value) in enumerate(zip(self.outs, results)):
-            em.emit("store", _to_memory(em, kind, value), addrs[len(self.ins) + j], align=1)
-        em.emit("store", em.emit("add", iv, _c64(1), name="j_next"), i)
-        em.branch_to(head)
-        em.goto(done)
-
-    # -- the user's body --------------------------------------------------------
-    def _trace(self, inputs, width):
-        em = self.em
-        em.width = width
-        scope = em.push_scope("kernel body")
-        try:
-            result = self.body(*inputs)
-        finally:
-            em.width = self.width
-        if not isinstance(result, tuple):
-            result = (result,)
-        with at_return_of(self.body):
-            if len(result) != len(self.outs):
-                raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
-                                   f"{len(self.outs)} output(s)")
-            irs = [to_ir(r, VType(kind, width)) for r, kind in zip(result, self.outs)]
-        em.pop_scope(scope)
-        return irs
+def _idx(v: int):
+    return T.const(INDEX, v)
 
 
-class _KernelBody:
+class KernelBody:
     """Stands in for the function being built: kernel bodies return with Python ``return``."""
 
     returns = None
@@ -260,43 +54,201 @@ class _KernelBody:
         self.name = name
 
 
-def _from_memory(em, kind, vt, raw, name):
-    if kind.category == "bool":
-        zero = ir.Constant(raw.type, 0 if vt.width == 1 else [ir.Constant(ir.IntType(8), 0)] * vt.width)
-        raw = em.emit("icmp_unsigned", "!=", raw, zero, name=name)
-    return value_class(vt)._wrap(raw, em).named(name)
+def emit_body(module, name: str, body, in_kinds, out_kinds, width: int):
+    """The internal function ``<name>.body`` (or ``.body1`` at width 1): the user's body traced at ``width``."""
+    from ..dsl.control import check_python_returns
+
+    check_python_returns(body)
+    outs = [VType(k, width) for k in out_kinds]
+    ret = outs[0] if len(outs) == 1 else T.StructType(tuple(outs))
+    params = [VType(k, width) for k in in_kinds]
+    fname = f"{name}.body" if width > 1 or module.build.width == 1 else f"{name}.body1"
+    em = _em.FunctionEmitter(module, fname, ret, params, [f"x{k}" for k in range(len(in_kinds))],
+                             width=width, internal=True)
+    em.dsl_function = KernelBody(name)
+    with em:
+        inputs = [value_class(p)._wrap(a, em) for p, a in zip(params, em.params)]
+        result = body(*inputs)
+        if not isinstance(result, tuple):
+            result = (result,)
+        with at_return_of(body):
+            if len(result) != len(outs):
+                raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
+                                   f"{len(outs)} output(s)")
+            irs = [to_ir(r, vt) for r, vt in zip(result, outs)]
+        for block in em.finish():
+            em.position_at(block)
+            em.ret(irs[0] if len(irs) == 1 else em.pack(ret, irs))
+        em.finish()
+    return em.function
 
 
-def _to_memory(em, kind, value_ir):
-    if kind.category == "bool":
-        return em.emit("zext", value_ir, ir.VectorType(ir.IntType(8), value_ir.type.count)
-                       if isinstance(value_ir.type, ir.VectorType) else ir.IntType(8), name="byte")
-    return value_ir
+class LoopEmitter:
+    """Emits ``<name>.loop`` around the body functions of a kernel (``vector`` at the
+    build's width, None when it is 1; ``scalar`` at width 1)."""
+
+    def __init__(self, module, name: str, vector, scalar, in_kinds, out_kinds, width: int):
+        self.vector_fn, self.scalar_fn = vector, scalar
+        self.ins, self.outs, self.width = in_kinds, out_kinds, width
+        self.kinds = list(in_kinds) + list(out_kinds)
+        # Out of line: the dispatcher calls it, and inlining it there would double the machine code.
+        self.em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES, width=width, inline="never")
+
+    # -- index arithmetic, through the op table ---------------------------------
+    def _add(self, a, b):
+        return ops.binary(self.em, "add", INDEX, a, b)
+
+    def _sub(self, a, b):
+        return ops.binary(self.em, "sub", INDEX, a, b)
+
+    def _mul(self, a, b):
+        return ops.binary(self.em, "mul", INDEX, a, b)
+
+    def _cmp(self, name, a, b, vt=INDEX):
+        return ops.compare(self.em, vt, name, a, b)
+
+    def _all(self, conds):
+        bool1 = VType(BOOL, 1)
+        out = T.const(bool1, 1)
+        for c in conds:
+            out = ops.binary(self.em, "and", bool1, out, c)
+        return out
+
+    def emit(self):
+        em = self.em
+        with em:
+            args, dims, steps, _ = em.params
+            self.n = em.load(dims, name="n")
+            self.ptrs, self.steps = [], []
+            for k in range(len(self.kinds)):
+                self.ptrs.append(em.load(em.address(args, k), name=f"arg{k}"))
+                self.steps.append(em.load(em.address(steps, k), name=f"step{k}"))
+            status = x86.save_fp_status(em)
+            self.i = em.alloca(INDEX, "i")
+            em.store(_idx(0), self.i)
+            scalar = em.new_block("scalar")
+            if self.vector_fn is not None:
+                vector = em.new_block("vector")
+                em.cbranch(self._all([self._vector_layout(), self._operands_apart()]), vector, scalar)
+                em.goto(vector)
+                self._vector_loop(scalar)
+            else:
+                em.branch(scalar)
+            em.goto(scalar)
+            self._scalar_loop()
+            x86.restore_fp_status(em, status)
+            em.ret(None)
+            em.finish()
+        return em.function
+
+    # -- layouts -------------------------------------------------------------------
+    def _is_step(self, k, size):
+        return self._cmp("eq", self.steps[k], _idx(size))
+
+    def _vector_layout(self):
+        """Every output contiguous, every input contiguous or broadcast (stride 0)."""
+        bool1 = VType(BOOL, 1)
+        conds = []
+        for k, kind in enumerate(self.kinds):
+            contiguous = self._is_step(k, kind.mem_bytes)
+            if k < len(self.ins):
+                contiguous = ops.binary(self.em, "or", bool1, contiguous, self._is_step(k, 0))
+            conds.append(contiguous)
+        return self._all(conds)
+
+    def _operands_apart(self):
+        """No output starts inside the n elements of an input, ahead of the input's
+        start, where the vector loop would read inputs before the element-by-element
+        order has written them: ufunc.accumulate passes out[i-1] as input i. (For
+        ordinary calls NumPy copies overlapping operands.)"""
+        em = self.em
+        addr = [em.convert("ptrtoint", p, INDEX, name=f"addr{k}") for k, p in enumerate(self.ptrs)]
+        conds = []
+        for a, kind in enumerate(self.ins):
+            last = self._sub(self._mul(self.n, _idx(kind.mem_bytes)), _idx(1))
+            for b in range(len(self.ins), len(self.ptrs)):
+                ahead = self._sub(self._sub(addr[b], addr[a]), _idx(1))
+                conds.append(self._cmp("ge", ahead, last, T.UINDEX))
+        return self._all(conds)
+
+    # -- the vector loop -------------------------------------------------------------
+    def _vector_loop(self, exit_block):
+        em, W = self.em, self.width
+        # Per input: where its vector comes from and how far that moves per iteration.
+        srcs, incs = [], []
+        for k, kind in enumerate(self.ins):
+            splat = em.alloca(T.memory(VType(kind, W)), f"splat{k}")
+            scalar = ops.load(em, VType(kind, 1), self.ptrs[k], name=f"s{k}")
+            ops.store(em, VType(kind, W), em.splat(scalar, W), splat)
+            bcast = self._is_step(k, 0)
+            srcs.append(em.select(bcast, em.cast_pointer(splat, T.BYTE), self.ptrs[k], name=f"src{k}"))
+            incs.append(em.select(bcast, _idx(0), _idx(W * kind.mem_bytes), name=f"inc{k}"))
+        head, body = em.new_block("vec.cond"), em.new_block("vec.body")
+        slots = [em.alloca(T.BYTES, f"p{k}") for k in range(len(self.kinds))]
+        for k, slot in enumerate(slots):
+            em.store(srcs[k] if k < len(self.ins) else self.ptrs[k], slot)
+        em.branch(head)
+        em.goto(head)
+        i = em.load(self.i, name="i")
+        em.cbranch(self._cmp("le", self._add(i, _idx(W)), self.n), body, exit_block)
+        em.goto(body)
+        i = em.load(self.i, name="i")
+        ptrs = [em.load(slot, name=f"p{k}") for k, slot in enumerate(slots)]
+        xs = [ops.load(em, VType(kind, W), ptrs[k], name=f"x{k}") for k, kind in enumerate(self.ins)]
+        results = self._call(self.vector_fn, xs, inline="always")
+        for j, (kind, value) in enumerate(zip(self.outs, results)):
+            ops.store(em, VType(kind, W), value, ptrs[len(self.ins) + j])
+        for k, (slot, p) in enumerate(zip(slots, ptrs)):
+            inc = incs[k] if k < len(self.ins) else _idx(W * self.kinds[k].mem_bytes)
+            em.store(em.address(p, inc, name=f"p{k}.next"), slot)
+        em.store(self._add(i, _idx(W)), self.i)
+        em.branch(head)
+
+    def _call(self, fn, xs, inline):
+        em = self.em
+        result = em.call(fn, xs, name="r", inline=inline)
+        return [result] if len(self.outs) == 1 else em.unpack(result, len(self.outs))
+
+    # -- the scalar loop --------------------------------------------------------------------
+    def _scalar_loop(self):
+        """Elements ``i .. n-1`` one at a time, at any strides, in order."""
+        em = self.em
+        head, body, done = em.new_block("strided.cond"), em.new_block("strided.body"), em.new_block("done")
+        em.branch(head)
+        em.goto(head)
+        i = em.load(self.i, name="j")
+        em.cbranch(self._cmp("lt", i, self.n), body, done)
+        em.goto(body)
+        i = em.load(self.i, name="j")
+        addrs = [em.address(p, self._mul(i, self.steps[k]), name=f"e{k}") for k, p in enumerate(self.ptrs)]
+        xs = [ops.from_memory(em, VType(kind, 1), em.load(em.cast_pointer(addrs[k], T.memory(VType(kind, 1))),
+                                                          align=1, name=f"in{k}"), name=f"x{k}")
+              for k, kind in enumerate(self.ins)]
+        results = self._call(self.scalar_fn, xs, inline=None)
+        for j, (kind, value) in enumerate(zip(self.outs, results)):
+            vt = VType(kind, 1)
+            em.store(ops.to_memory(em, vt, value), em.cast_pointer(addrs[len(self.ins) + j], T.memory(vt)), align=1)
+        em.store(self._add(i, _idx(1)), self.i)
+        em.branch(head)
+        em.goto(done)
 
 
-def emit_dispatcher(module, name: str, serial: ir.Function) -> ir.Function:
+def emit_dispatcher(module, name: str, serial) -> object:
     """``<name>.ufunc``: the loop NumPy calls. ``data`` points to a
     ``parallel.LoopConfig``; calls of at least ``*threshold`` elements go to its
     hook (which splits them across threads), all others straight to ``serial``."""
-    em = _em.FunctionEmitter(module, name, ir.VoidType(),
-                             [I8P.as_pointer(), I64.as_pointer(), I64.as_pointer(), I8P],
-                             ["args", "dims", "steps", "data"])
-    serial.attributes.add("noinline")  # else LLVM copies the whole loop here: twice the machine code
-    loop_ty = serial.function_type
-    cfg_ty = ir.LiteralStructType([I8P, loop_ty.as_pointer(), I64.as_pointer(), I64])
+    em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES)
+    cfg_t = T.StructType((T.BYTES, T.BYTES, T.PointerType(INDEX), INDEX))
     with em:
-        args, dims, steps, data = em.function.args
-        cfg = em.emit("bitcast", data, cfg_ty.as_pointer(), name="config")
-        field = lambda i, what: em.emit("load", em.emit("gep", cfg, [ir.Constant(I32, 0), ir.Constant(I32, i)],
-                                                        name=f"{what}.p"), name=what)
-        hook = field(1, "hook")
-        threshold = em.emit("load", field(2, "threshold.addr"), name="threshold")
-        n = em.emit("load", dims, name="n")
-        big = em.emit("icmp_signed", ">=", n, threshold, name="big")
+        args, dims, steps, data = em.params
+        cfg = em.cast_pointer(data, cfg_t, name="config")
+        hook = em.load(em.field(cfg, 1, name="hook.p"), name="hook")
+        threshold = em.load(em.load(em.field(cfg, 2, name="threshold.p"), name="threshold.addr"), name="threshold")
+        n = em.load(dims, name="n")
         parallel, serial_block = em.new_block("parallel"), em.new_block("serial")
-        em.cbranch(big, parallel, serial_block)
+        em.cbranch(ops.compare(em, INDEX, "ge", n, threshold), parallel, serial_block)
         em.goto(parallel)
-        em.call(hook, [args, dims, steps, data])
+        em.call_pointer(hook, serial, [args, dims, steps, data])
         em.ret(None)
         em.goto(serial_block)
         em.call(serial, [args, dims, steps, data])

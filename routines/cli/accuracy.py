@@ -16,7 +16,10 @@ import argparse
 import json
 import sys
 
+from reactor import WIDTHS
+
 from .. import NAMES, jit
+from ..base import PRECISIONS
 from ..lab import evaluate, sample_inputs, sweep
 from ..lab.pairs import stratified_pow
 
@@ -36,9 +39,9 @@ def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(prog="python -m routines accuracy", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("function", choices=NAMES)
-    parser.add_argument("--precision", choices=("full", "relaxed"), default="full")
+    parser.add_argument("--precision", choices=PRECISIONS, default="full")
     parser.add_argument("--fma", choices=("on", "off"), default="on")
-    parser.add_argument("--width", type=int, choices=(1, 4, 8, 16))
+    parser.add_argument("--width", type=int, choices=WIDTHS)
     parser.add_argument("--exhaustive", action="store_true")
     parser.add_argument("--samples", type=int, default=2 ** 20, help="random inputs in quick mode")
     parser.add_argument("--workers", type=int, default=2)

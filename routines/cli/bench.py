@@ -15,6 +15,7 @@ import time
 import numpy as np
 
 from .. import jit
+from ..base import PRECISIONS
 
 NUMPY = {
     "exp2": lambda x, out: np.exp2(x, out=out), "exp": lambda x, out: np.exp(x, out=out),
@@ -54,7 +55,7 @@ def run(functions=DEFAULT_FUNCTIONS, size: int = 65536, rounds: int = 7):
         args = inputs(name, size)
         out = np.empty(size, np.float32)
         cands = {"numpy": (NUMPY[name], args, out)}
-        for precision in ("full", "relaxed"):
+        for precision in PRECISIONS:
             for fma in (True, False):
                 cands[f"{precision} fma={'on' if fma else 'off'}"] = (jit(name, precision, fma), args, out)
         with np.errstate(all="ignore"):

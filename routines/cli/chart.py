@@ -6,7 +6,9 @@ against the highp tolerance with ``--error margin``; our variants and the
 peers, the Pareto frontier and its lower convex hull, non-conforming points
 marked) as PNG and SVG, from the JSON that ``python -m routines report``
 wrote (default ``out/report.json``). Without that file it first runs the
-report in its quick mode (and writes the JSON). See docs/performance.md.
+report in its quick mode (and writes the JSON). The chart needs matplotlib
+(``pip install "reactor[plot]"``); without it the command says so in one
+line and exits 0, without running anything. See docs/performance.md.
 """
 from __future__ import annotations
 
@@ -27,6 +29,10 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--out", default="out", metavar="DIR")
     parser.add_argument("--name", help="file name without extension (default chart / chart-margin)")
     args = parser.parse_args(argv)
+    missing = chart.missing_matplotlib()
+    if missing:
+        print(missing)
+        return 0
     source = args.source or os.path.join(args.out, "report.json")
     if os.path.exists(source):
         with open(source) as f:

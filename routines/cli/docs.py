@@ -19,6 +19,7 @@ import json
 import os
 
 from .. import NAMES, exponential, logarithm, polynomials, power, reciprocal, specials
+from ..base import PRECISIONS
 from .accuracy import measure
 
 MODULES = {"exp2": exponential, "exp": exponential, "log2": logarithm, "log": logarithm,
@@ -34,7 +35,7 @@ def accuracy_path(root: str, name: str, precision: str, fma: bool) -> str:
 
 def _accuracy_rows(name: str, root: str):
     rows = []
-    for precision in ("full", "relaxed"):
+    for precision in PRECISIONS:
         for fma in (True, False):
             path = accuracy_path(root, name, precision, fma)
             if os.path.exists(path):

@@ -5,10 +5,12 @@ The main job: builds every variant (function x precision x FMA x SIMD width
 measures their accuracy (the lab's sample by default, every input with
 ``--exhaustive``) and their speed (L1, L2 and DRAM sizes, one thread, and two
 threads at the DRAM size; the clock calibrated in the same run), models
-every variant's loop, prints the table and the targets, and writes
-``DIR/report.json`` (every figure), ``DIR/chart.png``/``.svg`` (cost vs max
-ULP) and ``DIR/chart-margin.png``/``.svg`` (cost vs margin). Progress goes
-to stderr. See docs/performance.md.
+every variant's loop, writes ``DIR/report.json`` (every figure) and prints
+the table and the targets, then draws ``DIR/chart.png``/``.svg`` (cost vs
+max ULP) and ``DIR/chart-margin.png``/``.svg`` (cost vs margin). The chart
+needs matplotlib (``pip install "reactor[plot]"``); without it the command
+says so in one line and still succeeds. Progress goes to stderr. See
+docs/performance.md.
 """
 from __future__ import annotations
 
@@ -45,6 +47,16 @@ def main(argv: list[str]) -> int:
                         threads2=not args.no_threads, progress=not args.quiet)
     result["settings"]["command"] = "python -m routines report " + " ".join(argv)
     os.makedirs(args.out, exist_ok=True)
+    json_path = os.path.join(args.out, "report.json")
+    result["chart"] = []
+    _write_json(result, json_path)  # the figures first: the chart is optional and drawn last
+    print(report.print_table(result), flush=True)
+    missing = chart.missing_matplotlib()
+    if missing:
+        print(f"{missing}; then `python -m routines chart --out {args.out} [--error margin]` "
+              f"draws it from {json_path}", file=sys.stderr)
+        print(f"\nwrote {json_path}", file=sys.stderr)
+        return 0
     paths = []
     for error, name in (("ulp", "chart"), ("margin", "chart-margin")):
         panels = report.chart_panels(result, error, search_dir=os.path.join(args.out, "search"))
@@ -52,8 +64,11 @@ def main(argv: list[str]) -> int:
                             title=f"cost vs {'max ULP-32' if error == 'ulp' else 'max margin'} "
                                   f"({result['machine'].get('llvm_cpu')}, {result['clock']['ghz']:.2f} GHz)")
     result["chart"] = paths
-    with open(os.path.join(args.out, "report.json"), "w") as f:
-        json.dump(report.to_json(result), f, indent=1)
-    print(report.print_table(result))
-    print(f"\nwrote {os.path.join(args.out, 'report.json')}, " + ", ".join(paths), file=sys.stderr)
+    _write_json(result, json_path)  # again, now listing the chart's files
+    print(f"\nwrote {json_path}, " + ", ".join(paths), file=sys.stderr)
     return 0
+
+
+def _write_json(result: dict, path: str) -> None:
+    with open(path, "w") as f:
+        json.dump(report.to_json(result), f, indent=1)

@@ -21,12 +21,14 @@ import os
 import sys
 import time
 
+from ..base import PRECISIONS
+
 
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="python -m routines search",
                                 description="Variant search: the Pareto set of cost vs Vulkan margin.")
     p.add_argument("function", choices=("exp2", "log2", "all"))
-    p.add_argument("--precision", choices=("full", "relaxed", "all"), default="full")
+    p.add_argument("--precision", choices=PRECISIONS + ("all",), default="full")
     p.add_argument("--quick", action="store_true",
                    help="fewer candidates, sampled errors only (~30 s); default: exhaustive "
                         "sweeps of the finalists and the Pareto set")
@@ -82,7 +84,7 @@ def main(argv: list[str]) -> int:
     from ..search.run import ULP_DOMAIN, CORE_LABEL, search
 
     funcs = ("exp2", "log2") if args.function == "all" else (args.function,)
-    precs = ("full", "relaxed") if args.precision == "all" else (args.precision,)
+    precs = PRECISIONS if args.precision == "all" else (args.precision,)
     log = (lambda s: print(s, file=sys.stderr, flush=True))
     everything = []
     t_all = time.perf_counter()

@@ -19,6 +19,8 @@ import sys
 
 import numpy as np
 
+from ..base import PRECISIONS
+
 N = 2 ** 24
 
 _SPECIAL_BITS = [
@@ -60,7 +62,7 @@ def variants(functions=None, widths=(16, 8, 4), target=None):
     """(name, precision, fma, width) for every variant."""
     import routines
     for name in functions or routines.NAMES:
-        for precision in ("full", "relaxed"):
+        for precision in PRECISIONS:
             for fma in (True, False):
                 for width in widths:
                     yield name, precision, fma, width

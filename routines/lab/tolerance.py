@@ -86,6 +86,8 @@ Assumptions and readings (documented in docs/accuracy.md):
 from __future__ import annotations
 
 import math
+
+from ..base import PRECISIONS
 import threading
 from dataclasses import dataclass
 from typing import Callable
@@ -96,7 +98,6 @@ from .measures import spec_ulp16, spec_ulp32
 
 SPEC = ("Vulkan 1.4.360, Appendix 'Vulkan Environment for SPIR-V', "
         "'Precision and Operation of SPIR-V Instructions'")
-PRECISIONS = ("full", "relaxed")
 
 _UNIT = {"full": spec_ulp32, "relaxed": spec_ulp16}
 _EXP_BASE = {"full": 3.0, "relaxed": 1.0}

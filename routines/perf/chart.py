@@ -21,6 +21,9 @@ tolerance, so 1 is the highp limit). Lower-left is better. On every panel:
   tolerance) are drawn hollow with a red cross.
 
 Uses matplotlib's Agg backend (no display needed); writes PNG and SVG.
+matplotlib is optional (``pip install "reactor[plot]"``) and imported only
+inside :func:`draw`: the frontier functions and :func:`missing_matplotlib`
+work without it.
 """
 from __future__ import annotations
 
@@ -29,6 +32,17 @@ import os
 from typing import Sequence
 
 FLOOR = 1e-3  # smallest error drawn on a log axis (an exact result has error 0)
+INSTALL = 'pip install "reactor[plot]"'  # how to get matplotlib, for the chart
+
+
+def missing_matplotlib() -> str | None:
+    """None if matplotlib can be imported (:func:`draw` will work), else one line
+    saying that the chart needs it and how to install it."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return f"no chart: it needs matplotlib, which is not installed ({INSTALL})"
+    return None
 
 
 def pareto_front(points: Sequence[tuple[float, float]]) -> list[int]:

@@ -223,4 +223,4 @@ def predict_kernel(ufunc, machine=ZEN4) -> Prediction:
     """``predict`` for a reactor kernel (its ``<name>.loop`` function)."""
     from reactor import kernel_of
     kern = kernel_of(ufunc)
-    return predict(kern.optimized_ir, f"{kern.name}.loop", kern.options.width, machine)
+    return predict(kern.optimized_ir, f"{kern.name}.loop", kern.build.width, machine)

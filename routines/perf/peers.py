@@ -1,7 +1,8 @@
 """The peers our routines are compared with, and their accuracy.
 
-* **NumPy** float32 ufuncs (``np.exp2``, ``np.log2``, ``np.power``, ...). On
-  this machine NumPy dispatches to its AVX-512 loops.
+* **NumPy** float32 ufuncs (``np.exp2``, ``np.log2``, ``np.power``, ...),
+  which dispatch to the widest SIMD loops the CPU supports (AVX-512 where
+  present).
 * **glibc libmvec** (``libmvec.so.1``): the x86-64 vector-function ABI
   entry points for 16 float32 lanes (``_ZGVeN16v_exp2f``, ``_ZGVeN16v_log2f``,
   ``_ZGVeN16vv_powf``, ...), called from a reactor kernel of width 16 through

@@ -25,7 +25,8 @@ Rules (so that a figure here compares with every other figure of the run):
 * **Cycles from the calibrated clock** (:mod:`routines.perf.clock`):
   ``cycles/element = ns/element * GHz``.
 
-Sizes (this machine: 32 KiB L1d and 1 MiB L2 per core, 32 MiB L3):
+Sizes (chosen for Zen 4's caches: 32 KiB L1d and 1 MiB L2 per core, 32 MiB
+L3; with other cache sizes a size may live in another level than its name):
 ``L1`` 2048 elements (pow: two 8 KiB inputs and an 8 KiB result), ``L2``
 65536 (256 KiB per array, 768 KiB for pow) and ``DRAM`` 16M elements (64 MiB
 per array, twice the L3).
@@ -38,10 +39,10 @@ parallel threshold (2^20 elements), so only the DRAM size has 2-thread rows.
 **Load by others.** The machine is shared: :func:`load_snapshot` before and
 after a size's rounds gives the CPU time that *other* processes used meanwhile
 (all CPUs' busy time from /proc/stat minus this process's own), in CPUs, and
-the steal time; the report prints it beside the figures. When the other core
-is busy, this VM's two vCPUs compete for the host core's shared resources,
-and code limited by its out-of-order window is slowed more than code limited
-by its execution pipes (see docs/performance.md).
+the steal time; the report prints it beside the figures. When two vCPUs are
+SMT siblings of one host core and the other one is busy, they compete for
+that core's shared resources, and code limited by its out-of-order window is
+slowed more than code limited by its execution pipes (see docs/performance.md).
 """
 from __future__ import annotations
 

@@ -82,15 +82,16 @@ import itertools
 
 import numpy as np
 
-from reactor import As, Exponent, Floor, Fract, Min, MulAdd, Select, Significand, ToInt, fma_mode, kernel, \
-    vector_type, Float
+from reactor import (As, Exponent, Float, Floor, Fract, LRint, Min, MulAdd, ReduceNearest, ScaleF, Select,
+                     Significand, ToInt, fma_mode, kernel, vector_type)
+
+from ..base import PRECISIONS
 
 MANTISSA_SCALE = float(2 ** 23)
 BIAS_BITS = 127 << 23
 INF_BITS = 0x7F800000
 
 FUNCTIONS = ("exp2", "log2")
-PRECISIONS = ("full", "relaxed")
 
 #: What each form's polynomial approximates, on [0, 1], and the factor the
 #: polynomial is multiplied by (the weight's denominator: the fit's weight is
@@ -336,63 +337,12 @@ def _kernel(c: Candidate):
                   cache=False)
 
 
-def to_int_nearest(v):
-    """round-to-nearest-even float -> Int as one conversion: ``llvm.lrint``
-    (VCVTPS2DQ / VCVTSS2SI under the default MXCSR rounding; the kernels do
-    not change it). ``ToInt(v, "nearest")`` emits roundeven + fptosi, two
-    instructions (VRNDSCALEPS + VCVTTPS2DQ), with identical results."""
-    from reactor.ir import emitter
-    em = emitter.current()
-    Int_ = vector_type("Int", v.width)
-    fvt = v.vtype
-    ivt = fvt.with_kind("Int")
-    fn = em.intrinsic(f"llvm.lrint.{ivt.mangle()}.{fvt.mangle()}", ivt.ir, [fvt.ir])
-    return Int_._wrap(em.call(fn, [v.ir], name="lrint"), em)
-
-
 def _to_int(v, conversion: str):
     if conversion == "nearest":
-        return to_int_nearest(v)
+        return LRint(v)  # one VCVTPS2DQ; ToInt(v, "nearest") is VRNDSCALEPS + VCVTTPS2DQ, same results
     if conversion == "roundeven":
         return ToInt(v, "nearest", saturate=False)
     return ToInt(v, saturate=False)
-
-
-def scalef(a, b):
-    """``a * 2^floor(b)`` by AVX-512 VSCALEFPS (``llvm.x86.avx512.mask.scalef.ps``,
-    all lanes, current rounding); scalars go through lane 0 of an xmm."""
-    from llvmlite import ir
-    from reactor.ir import emitter
-    from reactor.ir.ops import splat
-    em = emitter.current()
-    w = a.width
-    n = 4 if w == 1 else w
-    if n not in (4, 8, 16):
-        raise ValueError(f"scalef: width {w} not supported")
-    vty = ir.VectorType(ir.FloatType(), n)
-    av, bv = (splat(em, n, v.ir) if w == 1 else v.ir for v in (a, b))
-    args = [av, bv, ir.Constant(vty, [ir.Constant(ir.FloatType(), 0.0)] * n),
-            ir.Constant(ir.IntType(max(n, 8)), -1)]
-    if n == 16:
-        args.append(ir.Constant(ir.IntType(32), 4))  # current rounding direction
-    fn = em.intrinsic(f"llvm.x86.avx512.mask.scalef.ps.{32 * n}", vty, [t.type for t in args])
-    r = em.call(fn, args, name="scalef")
-    if w == 1:
-        r = em.emit("extract_element", r, ir.Constant(ir.IntType(32), 0), name="lane0")
-    return type(a)._wrap(r, em)
-
-
-def reduce_nearest(x):
-    """x - round(x) (ties to even) by one AVX-512DQ VREDUCEPS (imm 0): exact, in
-    [-1/2, 1/2]; 0 for infinities, NaN for NaN."""
-    from reactor.dsl.intrinsics import _features
-    from reactor.ir import emitter
-    from reactor.ir import ops
-    natives = ops.avx512_natives(_features(), "reduce", imm=0, need="avx512dq")
-    if not natives:
-        raise ValueError("reduce_nearest needs AVX-512DQ")
-    em = emitter.current()
-    return type(x)._wrap(ops.by_native_width(em, x.vtype, x.ir, natives), em)
 
 
 def _poly(c: Candidate, x):
@@ -402,13 +352,13 @@ def _poly(c: Candidate, x):
 def _build_exp2(c: Candidate, x):
     Int_, UInt_, Float_ = (vector_type(k, x.width) for k in ("Int", "UInt", "Float"))
     if c.form in ROUND_FORMS:
-        f = reduce_nearest(x)
+        f = ReduceNearest(x)
         k = x - f
         if c.form == "rscalef":
             p = MulAdd(_poly(c, f), f, f) + 1.0
         else:
             p = MulAdd(_poly(c, f), f, 1.0)
-        return scalef(p, k)
+        return ScaleF(p, k)
     f = Fract(x)
     if c.form.startswith("scalef"):
         if c.form == "scalef":
@@ -417,7 +367,7 @@ def _build_exp2(c: Candidate, x):
             p = MulAdd(_poly(c, f), MulAdd(f, f, -f), f) + 1.0
         else:
             p = MulAdd(_poly(c, f), f, 1.0)
-        return scalef(p, x)
+        return ScaleF(p, x)
     if c.form == "additive":
         y = MulAdd(_poly(c, f), f, x)
     elif c.form == "additive01":

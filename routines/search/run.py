@@ -204,10 +204,10 @@ def _model_ir(kern) -> str:
     compile like (VCVTPS2DQ vs VCVTTPS2DQ: same class, pipes and latency)."""
     text = kern.optimized_ir
     # VSCALEFPS: one FP0/FP1 operation like a multiply (the model has no class for it)
-    sc = re.compile(r"call (<\d+ x float>) @llvm\.x86\.avx512\.mask\.scalef\.ps\.\d+\("
+    sc = re.compile(r"(?:tail )?call (<\d+ x float>) @llvm\.x86\.avx512\.mask\.scalef\.ps\.\d+\("
                     r"<\d+ x float> (%[\w.]+), <\d+ x float> (%[\w.]+)[^)]*\)")
     text = sc.sub(lambda m: f"fmul {m.group(1)} {m.group(2)}, {m.group(3)}", text)
-    pat = re.compile(r"call (<\d+ x i32>|i32) @llvm\.lrint\.[\w.]+\(((?:<\d+ x float>|float)) (%[\w.]+)\)")
+    pat = re.compile(r"(?:tail )?call (<\d+ x i32>|i32) @llvm\.lrint\.[\w.]+\(((?:<\d+ x float>|float)) (%[\w.]+)\)")
     return pat.sub(lambda m: f"fptosi {m.group(2)} {m.group(3)} to {m.group(1)}", text)
 
 
@@ -216,7 +216,7 @@ def model_cost(ufunc):
     from reactor import kernel_of
     from ..perf.model import predict
     kern = kernel_of(ufunc)
-    return predict(_model_ir(kern), f"{kern.name}.loop", kern.options.width)
+    return predict(_model_ir(kern), f"{kern.name}.loop", kern.build.width)
 
 
 def time_ns(ufunc, x: np.ndarray, rounds: int = 9, target: float = 3e-4) -> float:

@@ -9,7 +9,7 @@ import reactor
 from reactor import (
     Float, FmaDisabledError, For, Function, MulAdd, Pointer, Variable, kernel, kernel_of, vector_type,
 )
-from reactor.jit.target import get_target
+from reactor import get_target
 
 FUSED = re.compile(r"\bvf(?:n)?m(?:add|sub)\w*", re.I)
 HOST_FMA = get_target("host").has_fma  # without it, llvm.fma becomes a call to fmaf
@@ -73,9 +73,9 @@ def test_fma_follows_forced_targets():
         r = Function(_polynomial(8), target=target, fma=False, name=f"h_{target}_nofma").compile()
         assert not FUSED.search(r.assembly)
     # fma=None means "what the target has": avx2 (haswell) has FMA, sse4 (nehalem) does not
-    assert Function(_polynomial(4), target="avx2").compile().options.fma is True
+    assert Function(_polynomial(4), target="avx2").compile().build.fma is True
     r = Function(_polynomial(4), target="sse4").compile()
-    assert r.options.fma is False and not FUSED.search(r.assembly) and "ymm" not in r.assembly
+    assert r.build.fma is False and not FUSED.search(r.assembly) and "ymm" not in r.assembly
 
 
 def test_fma_in_fma_off_build_is_an_error():

@@ -149,7 +149,7 @@ def test_width_generic_function(width):
         return a + (b - a) * t + SIMD.Float(0.0)
 
     r = lerp.compile(width=width)
-    assert r.options.width == width
+    assert r.build.width == width
     a = np.arange(width, dtype=np.float32)
     assert_bits_equal(r(a, a + 4, 0.5), a + np.float32(2))
     with reactor.options(width=width):
@@ -157,15 +157,15 @@ def test_width_generic_function(width):
 
 
 def test_default_width_is_host_natural_width():
-    from reactor.jit.target import get_target
+    from reactor import get_target
 
     @function
     def f(x: SIMD.Float) -> SIMD.Float:
         return x
 
     r = f.compile()
-    assert r.options.width == get_target("host").natural_width
-    assert r(np.zeros(r.options.width, np.float32)).shape == (r.options.width,)
+    assert r.build.width == get_target("host").natural_width
+    assert r(np.zeros(r.build.width, np.float32)).shape == (r.build.width,)
 
 
 def test_function_options_and_context():
@@ -174,12 +174,12 @@ def test_function_options_and_context():
 
     f = Function(body, fma=False)
     r = f.compile()
-    assert r.options.fma is False and r.options.opt == 3
+    assert r.build.fma is False and r.build.opt == 3
     with reactor.options(opt=0, fma=True):
         r0 = f.compile()
-    assert r0.options.opt == 0          # the context's opt applies ...
-    assert r0.options.fma is False      # ... but the function's own fma wins
-    assert f.compile(fma=True).options.fma is True  # an explicit argument wins over both
+    assert r0.build.opt == 0          # the context's opt applies ...
+    assert r0.build.fma is False      # ... but the function's own fma wins
+    assert f.compile(fma=True).build.fma is True  # an explicit argument wins over both
     assert "llvm.fma" not in r0.ir and "llvm.fma" in f.compile(fma=True).ir
     with pytest.raises(reactor.ReactorError, match="unknown build option"):
         Function(body, fast=True)

@@ -42,10 +42,11 @@ def test_kernel_and_routine_text():
         return x * 3.0
 
     kern = kernel_of(k)
-    assert 'define void @"k.loop"' in kern.ir and "fmul <8 x float>" in kern.ir
+    assert 'define void @"k.loop"' in kern.ir and 'define internal <8 x float> @"k.body"' in kern.ir
+    assert "fmul <8 x float>" in kern.ir
     assert "define void @k.loop" in kern.optimized_ir.replace('"', "")
     assert "vmulps" in kern.assembly
-    assert repr(kern) == "<reactor.Kernel k width=8 fma=False>"
+    assert repr(kern) == "<reactor.Kernel k target=host width=8 fma=off precision=full>"
     r = Function(lambda x: x + 1.0, args=[Float], returns=Float, name="inc").compile()
     assert r.ir.startswith('; ModuleID = "inc"') and "fadd float" in r.ir
     assert "ret float" in r.optimized_ir and ("addss" in r.assembly or "vaddss" in r.assembly)

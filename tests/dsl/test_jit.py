@@ -12,7 +12,7 @@ import pytest
 import reactor
 from reactor import Float, Function, Int, MulAdd, kernel, kernel_of
 from reactor.jit import cache
-from reactor.jit.target import TARGETS, get_target
+from reactor import TARGETS, get_target
 
 from dsl_helpers import assert_bits_equal
 
@@ -47,7 +47,7 @@ def test_host_target():
 def test_forced_targets(target, width, regs):
     u = kernel(_make_body(2.5), target=target, name=f"t_{target}")
     kern = kernel_of(u)
-    assert kern.options.width == width and kern.options.target == target
+    assert kern.build.width == width and kern.build.target.name == target
     asm = kern.assembly
     assert regs in asm
     for wider in {"xmm": ("ymm", "zmm"), "ymm": ("zmm",), "zmm": ()}[regs]:
@@ -66,7 +66,7 @@ def test_optimization_levels():
 
     r0 = Function(body, opt=0).compile()
     r3 = Function(body, opt=3).compile()
-    assert (r0.options.opt, r3.options.opt) == (0, 3)
+    assert (r0.build.opt, r3.build.opt) == (0, 3)
     assert r0.ir == r3.ir  # the same IR as built ...
     assert "alloca" in r0.optimized_ir and "alloca" not in r3.optimized_ir  # ... optimized differently
     assert r0(1.5, 4) == r3(1.5, 4) == 6.0
@@ -153,7 +153,7 @@ def test_concurrent_building_and_compiling():
                 c = float(t * 10 + k) + 0.5
                 with reactor.options(fma=bool(k % 2)):  # thread-local option contexts
                     u = kernel(_make_body(c), name=f"thr{t}_{k}")
-                    assert kernel_of(u).options.fma is bool(k % 2)
+                    assert kernel_of(u).build.fma is bool(k % 2)
 
                 def g(x: Float, y: Float) -> Float:
                     return MulAdd(x, y, c)

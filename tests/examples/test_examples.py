@@ -19,7 +19,7 @@ NAMES = ("gamma", "specular", "tonemap", "inspect_ir", "custom_routine")
 
 
 def _host_has(feature: str) -> bool:
-    from reactor.jit.target import get_target
+    from reactor import get_target
     return feature in get_target("host").feature_set
 
 

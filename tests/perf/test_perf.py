@@ -1,10 +1,13 @@
 """Fast tests of the performance tools: Pareto frontier and hull, the chart,
-clock calibration, the cost model's pipe sharing, peers reported absent, and
-a tiny run of the report (its JSON keys)."""
+clock calibration, the cost model's pipe sharing, peers reported absent, a
+tiny run of the report (its JSON keys), and the report's command without
+matplotlib."""
 from __future__ import annotations
 
 import json
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -180,3 +183,31 @@ def test_report_tiny(tmp_path):
     assert "exp2" in text and "absent" in text and "Targets" in text
     paths = chart.draw(report.chart_panels(data), str(tmp_path / "chart"))
     assert all((tmp_path / p.rsplit("/", 1)[1]).stat().st_size > 1000 for p in paths)
+
+
+TINY = {"sizes": {"L2": 4096}, "rounds": {"L2": 2}, "samples": 2 ** 10, "threads2": False,
+        "libraries": {"sleef": "libsleef-not-here.so.9"}, "calibrate_ops": 1 << 14}
+
+
+def test_report_path_does_not_import_matplotlib():
+    code = ("import sys, routines.cli.report, routines.cli.chart, routines.perf.report, routines.perf.chart; "
+            "sys.exit('matplotlib' in sys.modules)")
+    assert subprocess.run([sys.executable, "-c", code]).returncode == 0
+
+
+def test_report_command_without_matplotlib(tmp_path, monkeypatch, capsys):
+    from routines.cli import chart as chart_cli, report as report_cli
+    real_run = report.run
+    monkeypatch.setattr(report, "run", lambda *a, **k: real_run(*a, **(k | TINY)))  # the tiny settings
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # `import matplotlib` raises ImportError
+    assert report_cli.main(["--functions", "exp2", "--no-threads", "--quiet", "--out", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    data = json.loads((tmp_path / "report.json").read_text())
+    assert len(data["variants"]) == 2 * 2 * 3 and data["chart"] == [] and data["targets"]
+    assert "exp2" in out and "Targets" in out
+    hint = [line for line in err.splitlines() if "matplotlib" in line]
+    assert len(hint) == 1 and 'pip install "reactor[plot]"' in hint[0]
+    assert not list(tmp_path.glob("chart*"))
+    assert chart_cli.main(["--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert out.count("\n") == 1 and 'pip install "reactor[plot]"' in out

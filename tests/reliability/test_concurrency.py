@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import routines
+from fuzz import check, program_for
 from reactor import DSLTypeError, Float, For, Function, Int, MulAdd, Select, Variable, kernel
-from reactor.fuzz import check, program_for
 from reactor.kernels import parallel
 
 DURATION = 4.0  # seconds of concurrent work

@@ -2,7 +2,7 @@
 compiled code is freed with its routine; caches are bounded.
 
 The full 10,000-cycle runs are marked ``slow`` (REACTOR_SLOW_TESTS=1) and are also
-``python -m reactor.fuzz memcheck --cycles 10000 [--distinct]``. The growth that
+``python -m fuzz.memcheck --cycles 10000 [--distinct]``. The growth that
 remains comes from llvmlite, not reactor (docs/reliability.md): about 10 KB per
 JIT link (ORC keeps every JITDylib) and about 50-80 KB per LLVM optimization run
 (a PassInstrumentationCallbacks object per PassBuilder that is never freed).
@@ -13,8 +13,8 @@ import weakref
 import numpy as np
 import pytest
 
+from fuzz.memcheck import exec_mappings, memcheck
 from reactor import Float, Function, kernel, kernel_of
-from reactor.fuzz.memcheck import exec_mappings, memcheck
 from reactor.jit import cache
 from reactor.kernels import kernel as kernel_module
 

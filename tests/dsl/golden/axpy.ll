@@ -14,20 +14,20 @@ define void @"axpy.entry"(i8** %"argv", i8* %"ret") nounwind
 entry:
   br label %"body"
 body:
-  %"a.argv" = getelementptr i8*, i8** %"argv", i64 0
+  %"a.argv" = getelementptr inbounds i8*, i8** %"argv", i64 0
   %"a.arg" = load i8*, i8** %"a.argv"
-  %"a.slot" = bitcast i8* %"a.arg" to float*
-  %"a" = load float, float* %"a.slot", align 4
-  %"x.argv" = getelementptr i8*, i8** %"argv", i64 1
+  %"a.p" = bitcast i8* %"a.arg" to float*
+  %"a" = load float, float* %"a.p", align 4
+  %"x.argv" = getelementptr inbounds i8*, i8** %"argv", i64 1
   %"x.arg" = load i8*, i8** %"x.argv"
-  %"x.slot" = bitcast i8* %"x.arg" to float*
-  %"x" = load float, float* %"x.slot", align 4
-  %"y.argv" = getelementptr i8*, i8** %"argv", i64 2
+  %"x.p" = bitcast i8* %"x.arg" to float*
+  %"x" = load float, float* %"x.p", align 4
+  %"y.argv" = getelementptr inbounds i8*, i8** %"argv", i64 2
   %"y.arg" = load i8*, i8** %"y.argv"
-  %"y.slot" = bitcast i8* %"y.arg" to float*
-  %"y" = load float, float* %"y.slot", align 4
+  %"y.p" = bitcast i8* %"y.arg" to float*
+  %"y" = load float, float* %"y.p", align 4
   %"result" = call float @"axpy"(float %"a", float %"x", float %"y")
-  %"retslot" = bitcast i8* %"ret" to float*
-  store float %"result", float* %"retslot", align 4
+  %"ret.p" = bitcast i8* %"ret" to float*
+  store float %"result", float* %"ret.p", align 4
   ret void
 }

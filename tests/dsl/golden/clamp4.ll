@@ -19,16 +19,16 @@ define void @"clamp4.entry"(i8** %"argv", i8* %"ret") nounwind
 entry:
   br label %"body"
 body:
-  %"v.argv" = getelementptr i8*, i8** %"argv", i64 0
+  %"v.argv" = getelementptr inbounds i8*, i8** %"argv", i64 0
   %"v.arg" = load i8*, i8** %"v.argv"
-  %"v.slot" = bitcast i8* %"v.arg" to <4 x float>*
-  %"v" = load <4 x float>, <4 x float>* %"v.slot", align 4
-  %"lo.argv" = getelementptr i8*, i8** %"argv", i64 1
+  %"v.p" = bitcast i8* %"v.arg" to <4 x float>*
+  %"v" = load <4 x float>, <4 x float>* %"v.p", align 4
+  %"lo.argv" = getelementptr inbounds i8*, i8** %"argv", i64 1
   %"lo.arg" = load i8*, i8** %"lo.argv"
-  %"lo.slot" = bitcast i8* %"lo.arg" to float*
-  %"lo" = load float, float* %"lo.slot", align 4
+  %"lo.p" = bitcast i8* %"lo.arg" to float*
+  %"lo" = load float, float* %"lo.p", align 4
   %"result" = call <4 x float> @"clamp4"(<4 x float> %"v", float %"lo")
-  %"retslot" = bitcast i8* %"ret" to <4 x float>*
-  store <4 x float> %"result", <4 x float>* %"retslot", align 4
+  %"ret.p" = bitcast i8* %"ret" to <4 x float>*
+  store <4 x float> %"result", <4 x float>* %"ret.p", align 4
   ret void
 }

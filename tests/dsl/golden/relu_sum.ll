@@ -10,12 +10,12 @@ body:
   br label %"for.cond"
 for.cond:
   %"i.1" = load i32, i32* %"i"
-  %"for.test" = icmp slt i32 %"i.1", %"n"
-  br i1 %"for.test", label %"for.body", label %"for.end"
+  %"lt" = icmp slt i32 %"i.1", %"n"
+  br i1 %"lt", label %"for.body", label %"for.end"
 for.body:
   %"i.2" = load i32, i32* %"i"
-  %"idx" = sext i32 %"i.2" to i64
-  %"addr" = getelementptr inbounds float, float* %"p", i64 %"idx"
+  %"toindex" = sext i32 %"i.2" to i64
+  %"addr" = getelementptr inbounds float, float* %"p", i64 %"toindex"
   %"load" = load float, float* %"addr", align 4
   %"gt" = fcmp ogt float %"load",              0x0
   br i1 %"gt", label %"if.then", label %"if.else"
@@ -43,15 +43,15 @@ define void @"relu_sum.entry"(i8** %"argv", i8* %"ret") nounwind
 entry:
   br label %"body"
 body:
-  %"p.argv" = getelementptr i8*, i8** %"argv", i64 0
+  %"p.argv" = getelementptr inbounds i8*, i8** %"argv", i64 0
   %"p.arg" = load i8*, i8** %"p.argv"
   %"p" = bitcast i8* %"p.arg" to float*
-  %"n.argv" = getelementptr i8*, i8** %"argv", i64 1
+  %"n.argv" = getelementptr inbounds i8*, i8** %"argv", i64 1
   %"n.arg" = load i8*, i8** %"n.argv"
-  %"n.slot" = bitcast i8* %"n.arg" to i32*
-  %"n" = load i32, i32* %"n.slot", align 4
+  %"n.p" = bitcast i8* %"n.arg" to i32*
+  %"n" = load i32, i32* %"n.p", align 4
   %"result" = call float @"relu_sum"(float* %"p", i32 %"n")
-  %"retslot" = bitcast i8* %"ret" to float*
-  store float %"result", float* %"retslot", align 4
+  %"ret.p" = bitcast i8* %"ret" to float*
+  store float %"result", float* %"ret.p", align 4
   ret void
 }

@@ -3,7 +3,7 @@
 
 ``check(program, seed)`` runs one program and returns a ``Result``;
 ``fuzz(budget, seed)`` runs many. The ``fuzz`` command
-(``python -m reactor fuzz --budget N --seed S``) runs them in a worker
+(``python -m fuzz --budget N --seed S``) runs them in a worker
 process, so a hard crash (a signal) is counted and reported with its program
 and the run goes on with the next one.
 """
@@ -20,12 +20,15 @@ import zlib
 
 import numpy as np
 
+import reactor
+
 from . import ast as A
 from .emit import function_of, kernel_of_program
 from .evaluate import EvaluatorError, evaluate
 from .generate import DOUBLE_CONSTS, FLOAT_CONSTS, INT_CONSTS, UINT_CONSTS, RandomChooser, generate
 
-WIDTHS = (1, 4, 8, 16)
+WIDTHS = reactor.WIDTHS
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))  # the directory holding this package
 LANES = 256  # input lanes per program (a multiple of 16)
 
 
@@ -326,9 +329,10 @@ def run_isolated(budget: int, seed=0, progress=None) -> Stats:
     t0 = time.perf_counter()
     index, end = 0, budget
     while index < end:
-        cmd = [sys.executable, "-m", "reactor.fuzz", "worker", "--seed", str(seed), "--start", str(index),
+        cmd = [sys.executable, "-m", "fuzz", "worker", "--seed", str(seed), "--start", str(index),
                "--count", str(end - index)]
-        env = dict(os.environ, REACTOR_CACHE="0")
+        env = dict(os.environ, REACTOR_CACHE="0", PYTHONPATH=os.pathsep.join(
+            [_ROOT] + [p for p in [os.environ.get("PYTHONPATH")] if p]))  # the worker imports this package
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, env=env, text=True)
         running = None
         for line in proc.stdout:
@@ -364,7 +368,7 @@ def run_isolated(budget: int, seed=0, progress=None) -> Stats:
 
 
 def add_arguments(parser) -> None:
-    """The fuzz command's options (shared by ``python -m reactor fuzz`` and ``python -m reactor.fuzz``)."""
+    """The fuzz command's options (``python -m fuzz``)."""
     parser.add_argument("--budget", type=int, default=200, help="number of programs (default 200)")
     parser.add_argument("--seed", default="0", help="run seed (default 0); program k of a seed is always the same")
     parser.add_argument("--in-process", action="store_true",
@@ -401,7 +405,7 @@ def run(args) -> int:
 
 def main(argv=None) -> int:
     import argparse
-    parser = argparse.ArgumentParser(prog="python -m reactor fuzz",
+    parser = argparse.ArgumentParser(prog="python -m fuzz",
                                      description="Differential fuzzing of the reactor DSL against NumPy.")
     add_arguments(parser)
     return run(parser.parse_args(argv))

@@ -131,9 +131,6 @@ class Generator:
         return Const(v, Ty(kind, True), literal=True)
 
     # -- expressions -----------------------------------------------------------------
-    def kinds_for(self, spec):
-        return [k for k in KINDS if k in spec.kinds]
-
     def expr(self, ty: Ty, depth: int, exact: bool = True):
         """An expression of type ``ty``; with ``exact=False`` a vector ``ty`` may also be
         satisfied by a scalar of the same kind (broadcast by the consumer)."""

@@ -1,8 +1,13 @@
-"""Element kinds and value types of the DSL.
+"""Element kinds, value types and pointer types, and their LLVM types and constants.
 
 A *kind* is an element type (Float, Double, Int, UInt, Bool); a *value type*
 is a kind at a SIMD width (1 = scalar, or 4, 8, 16 lanes). Everything below is
 a table: adding a kind or a width adds it for every operation at once.
+
+Two kinds are for the plumbing only (not DSL types): ``INDEX`` (a 64-bit
+signed integer: element counts, strides, addresses) and ``BYTE`` (an 8-bit
+integer: raw memory). Layers above ``ir`` name types with these objects and
+never with llvmlite's.
 """
 from __future__ import annotations
 
@@ -12,6 +17,7 @@ import functools
 import numpy as np
 from llvmlite import ir
 
+#: The SIMD widths of the DSL (1 is scalar).
 WIDTHS = (1, 4, 8, 16)
 
 
@@ -57,6 +63,20 @@ KINDS = {
         Kind("Bool", "bool", 1, ir.IntType(1), ir.IntType(8), np.dtype(np.bool_)),
     )
 }
+INDEX_KIND = Kind("Index", "int", 64, ir.IntType(64), ir.IntType(64), np.dtype(np.int64))
+UINDEX_KIND = Kind("UIndex", "uint", 64, ir.IntType(64), ir.IntType(64), np.dtype(np.uint64))
+BYTE_KIND = Kind("Byte", "uint", 8, ir.IntType(8), ir.IntType(8), np.dtype(np.uint8))
+
+
+def mangle(t: ir.Type) -> str:
+    """LLVM's overload suffix for an IR type: f32, i8, v16f32, v8i1."""
+    if isinstance(t, ir.VectorType):
+        return f"v{t.count}{mangle(t.element)}"
+    if isinstance(t, ir.FloatType):
+        return "f32"
+    if isinstance(t, ir.DoubleType):
+        return "f64"
+    return f"i{t.width}"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -88,24 +108,32 @@ class VType:
 
     def mangle(self) -> str:
         """The suffix LLVM uses in overloaded intrinsic names (f32, v16f32, v8i1)."""
-        base = {"float": "f", "int": "i", "uint": "i", "bool": "i"}[self.kind.category]
-        scalar = f"{base}{self.kind.bits}"
-        return scalar if self.width == 1 else f"v{self.width}{scalar}"
+        return mangle(self.ir)
 
     def __repr__(self) -> str:
         return self.name
 
 
+INDEX = VType(INDEX_KIND, 1)
+UINDEX = VType(UINDEX_KIND, 1)
+BYTE = VType(BYTE_KIND, 1)
+
+
+def memory(vt: VType) -> VType:
+    """The type ``vt``'s values have in memory (a Bool is a byte, as in NumPy)."""
+    return VType(BYTE_KIND, vt.width) if vt.kind.category == "bool" else vt
+
+
 @dataclasses.dataclass(frozen=True)
 class PointerType:
-    """A pointer argument to elements of ``pointee`` (a scalar or vector type).
+    """A pointer to elements of ``pointee`` (a value type, or another pointer type).
 
-    ``length`` is the number of pointee elements the routine may touch: an int,
+    ``length`` is the number of pointee elements a routine may touch: an int,
     the name of an Int/UInt argument of the same function, or None (unchecked
     beyond "at least one element").
     """
 
-    pointee: VType
+    pointee: "VType | PointerType"
     length: int | str | None = None
 
     @property
@@ -117,5 +145,62 @@ class PointerType:
     def ir(self) -> ir.Type:
         return self.pointee.mem_ir.as_pointer()
 
+    mem_ir = ir
+
     def __repr__(self) -> str:
         return self.name
+
+
+#: ``char *`` and ``char **``: NumPy's untyped data pointers.
+BYTES = PointerType(BYTE)
+BYTES_ARRAY = PointerType(BYTES)
+
+
+@dataclasses.dataclass(frozen=True)
+class StructType:
+    """Several values returned together (a kernel body with several outputs)."""
+
+    fields: tuple[VType, ...]
+
+    @property
+    def ir(self) -> ir.Type:
+        return ir.LiteralStructType([f.ir for f in self.fields])
+
+    @property
+    def name(self) -> str:
+        return "(" + ", ".join(f.name for f in self.fields) + ")"
+
+
+def ir_type(t) -> ir.Type:
+    """The LLVM type of a VType, PointerType or StructType (None: void)."""
+    return ir.VoidType() if t is None else t.ir
+
+
+def const(vtype: VType, value) -> ir.Constant:
+    """A constant of ``vtype`` with every lane equal to ``value``."""
+    scalar = ir.Constant(vtype.kind.ir_type, value)
+    if vtype.width == 1:
+        return scalar
+    return ir.Constant(vtype.ir, [scalar] * vtype.width)
+
+
+def lanes(vtype: VType, values) -> ir.Constant:
+    """A vector constant of ``vtype`` with one value per lane."""
+    values = list(values)
+    if len(values) != vtype.width:
+        raise ValueError(f"{vtype.name} needs {vtype.width} lane values, got {len(values)}")
+    scalars = [ir.Constant(vtype.kind.ir_type, v) for v in values]
+    return scalars[0] if vtype.width == 1 else ir.Constant(vtype.ir, scalars)
+
+
+def undefined(t) -> ir.Constant:
+    """An undefined value of type ``t`` (to build vectors lane by lane)."""
+    return ir.Constant(ir_type(t), ir.Undefined)
+
+
+def null(t: PointerType) -> ir.Constant:
+    return ir.Constant(t.ir, None)
+
+
+def is_constant(value) -> bool:
+    return isinstance(value, ir.Constant)

@@ -69,7 +69,7 @@ class Lanes:
 
 @dataclass(frozen=True)
 class Op:
-    """Operation ``name`` of ``reactor.fuzz.ops.OPS`` on ``args``; ``param`` e.g. a target kind or lane."""
+    """Operation ``name`` of ``fuzz.ops.OPS`` on ``args``; ``param`` e.g. a target kind or lane."""
     name: str
     args: tuple
     ty: Ty

@@ -11,9 +11,7 @@ from __future__ import annotations
 import inspect
 
 import reactor
-from reactor import SIMD, Pointer
-from reactor.dsl.values import vector_type
-from reactor.dsl.variables import _VariableMixin
+from reactor import SIMD, Pointer, vector_type
 
 from .ast import Arg, Const, For, If, Lanes, Let, Op, Program, Ref, Return, Set, Ty, Var, While
 from .ops import OPS
@@ -22,6 +20,14 @@ from .ops import OPS
 def dsl_type(ty: Ty, width: int | None = None):
     """The DSL class for ``ty`` in the function being built (or at ``width``)."""
     return vector_type(ty.kind, 1 if ty.scalar else (width or SIMD.width))
+
+
+def snapshot(value):
+    """``value`` as an immutable value: `t = var` in Python would alias a Variable, so a
+    Let binds a copy of its current value (for any other value, the same IR value)."""
+    if isinstance(value, reactor.Value):
+        return vector_type(type(value), value.width)(value)
+    return value  # a Python number
 
 
 class Emitter:
@@ -37,8 +43,8 @@ class Emitter:
         if isinstance(e, Const):
             return e.value if e.literal else dsl_type(e.ty)(e.value)
         if isinstance(e, Lanes):
-            T = dsl_type(e.ty)
-            W = T.vtype.width
+            W = 1 if e.ty.scalar else SIMD.width
+            T = dsl_type(e.ty, W)
             return T(*e.values[:W]) if W > 1 else T(e.values[0])
         if isinstance(e, Op):
             return OPS[e.name].emit(e, *[self.expr(a) for a in e.args])
@@ -47,10 +53,7 @@ class Emitter:
     def block(self, stmts):
         for s in stmts:
             if isinstance(s, Let):
-                value = self.expr(s.expr)
-                if isinstance(value, _VariableMixin):  # `t = var` in Python aliases the Variable
-                    value = value.value
-                self.env[s.name] = value
+                self.env[s.name] = snapshot(self.expr(s.expr))
             elif isinstance(s, Var):
                 self.env[s.name] = reactor.Variable(dsl_type(s.ty), self.expr(s.init), name=s.name)
             elif isinstance(s, Set):

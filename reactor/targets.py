@@ -1,5 +1,9 @@
 """Code-generation targets: the host CPU, or a forced older x86 level.
 
+The target is a build setting (see ``reactor.build``): resolved once per
+build into a ``Target`` object that every layer reads (the IR emitter for the
+triple, data layout and CPU features, the JIT for the machine).
+
 A target fixes the LLVM triple, CPU name and feature string, and from them the
 natural SIMD width (16 lanes of float32 with AVX-512, 8 with AVX2, else 4) and
 whether FMA exists. A forced target whose features the host lacks can still be
@@ -12,7 +16,7 @@ import functools
 
 import llvmlite.binding as llvm
 
-from ..errors import ReactorError
+from .errors import ReactorError
 
 
 @functools.cache
@@ -36,7 +40,7 @@ class Target:
     def feature_set(self) -> frozenset[str]:
         """Every feature code for this target may use (the CPU's, implied ones included)."""
         if self.name == "host":
-            return _host_features()
+            return host_features()
         return frozenset(_FORCED[self.name][2])
 
     @property
@@ -53,7 +57,7 @@ class Target:
 
     @property
     def runnable(self) -> bool:
-        return set(self.required) <= _host_features()
+        return set(self.required) <= host_features()
 
     @functools.cached_property
     def machine(self) -> llvm.TargetMachine:
@@ -62,13 +66,17 @@ class Target:
             cpu=self.cpu, features=self.features, opt=3, reloc="pic", codemodel="default"
         )
 
+    @functools.cached_property
+    def data_layout(self) -> str:
+        return str(self.machine.target_data)
+
     def key(self) -> str:
         """Everything about the target that changes generated code."""
         return f"{self.triple}|{self.cpu}|{self.features}"
 
 
 @functools.cache
-def _host_features() -> frozenset[str]:
+def host_features() -> frozenset[str]:
     _llvm_ready()
     return frozenset(k for k, v in llvm.get_host_cpu_features().items() if v)
 

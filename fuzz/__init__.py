@@ -1,4 +1,7 @@
-"""Differential fuzzing of the reactor DSL (issue 8).
+"""Differential fuzzing of the reactor DSL against an independent NumPy evaluation.
+
+A development tool, not part of the shipped ``reactor`` package (it needs
+hypothesis, a development dependency); it uses only reactor's public API.
 
 * ``ast``: the program representation (dataclasses);
 * ``generate``: random typed programs (a seeded chooser, or hypothesis: ``programs()``);
@@ -8,8 +11,8 @@
   compare every lane (``check``), many programs (``fuzz``), the command;
 * ``memcheck``: build/compile/call/drop cycles with resident memory measured.
 
-``python -m reactor fuzz --budget N --seed S`` runs a large budget;
-``python -m reactor.fuzz memcheck --cycles 10000`` the memory check. See docs/reliability.md.
+``python -m fuzz --budget N --seed S`` runs a large budget (from the repository root);
+``python -m fuzz.memcheck --cycles 10000`` the memory check. See docs/reliability.md.
 """
 from .ast import Program, parse, source
 from .generate import RandomChooser, generate, programs

@@ -15,6 +15,8 @@ from typing import Callable
 
 import numpy as np
 
+import reactor
+
 from .ast import DTYPES, FLOATS, INTS, NUMS
 
 I32_MIN, I32_MAX, U32_MAX = -(2**31), 2**31 - 1, 2**32 - 1
@@ -31,11 +33,6 @@ class Spec:
     emit: Callable
     ev: Callable
     cross_lane: bool = False  # function mode only (not lane-wise)
-
-
-def _R():
-    import reactor
-    return reactor
 
 
 # -- NumPy helpers -------------------------------------------------------------------
@@ -270,12 +267,11 @@ def _reduce(fn):
 # -- DSL emission helpers -------------------------------------------------------------
 
 def _dsl_type(kind: str, scalar: bool, width: int):
-    from ..dsl.values import vector_type
-    return vector_type(kind, 1 if scalar else width)
+    return reactor.vector_type(kind, 1 if scalar else width)
 
 
 def _width():
-    return _R().SIMD.width
+    return reactor.SIMD.width
 
 
 def _emit_convert(node, x):
@@ -284,23 +280,23 @@ def _emit_convert(node, x):
 
 
 def _emit_bitcast(node, x):
-    return _R().As(_dsl_type(node.param, node.ty.scalar, _width()), x)
+    return reactor.As(_dsl_type(node.param, node.ty.scalar, _width()), x)
 
 
 def _emit_extract(node, v):
     W = _width()
-    return v if W == 1 else _R().Extract(v, node.param % W)
+    return v if W == 1 else reactor.Extract(v, node.param % W)
 
 
 def _emit_extract_dyn(node, v, i):
-    return v if _width() == 1 else _R().Extract(v, i)
+    return v if _width() == 1 else reactor.Extract(v, i)
 
 
 def _emit_insert(node, v, x):
     W = _width()
     if W == 1:
         return x
-    return _R().Insert(v, x, node.param % W)
+    return reactor.Insert(v, x, node.param % W)
 
 
 def _b(fn):
@@ -313,7 +309,7 @@ def _u1(fn):
 
 def _intr(name, arity):
     def emit(node, *args):
-        return getattr(_R(), name)(*args)
+        return getattr(reactor, name)(*args)
     return emit
 
 
@@ -364,14 +360,14 @@ _SPECS = [
     Spec("isinf", 1, FLOATS, "bool", _intr("IsInf", 1), lambda a, t, n, ctx: (np.isinf(a[0]), None)),
     Spec("isfinite", 1, FLOATS, "bool", _intr("IsFinite", 1), lambda a, t, n, ctx: (np.isfinite(a[0]), None)),
     # MulAdd: param = the build's fma option (fused iff on); Fma: always fused
-    Spec("muladd", 3, FLOATS, "same", lambda node, a, b, c: _R().MulAdd(a, b, c), _muladd(False)),
-    Spec("fma", 3, frozenset({"Float"}), "same", lambda node, a, b, c: _R().Fma(a, b, c), _muladd(True)),
+    Spec("muladd", 3, FLOATS, "same", lambda node, a, b, c: reactor.MulAdd(a, b, c), _muladd(False)),
+    Spec("fma", 3, frozenset({"Float"}), "same", lambda node, a, b, c: reactor.Fma(a, b, c), _muladd(True)),
     # Select: args (mask, a, b); kinds is the kinds of a and b
-    Spec("select", 3, ALL, "same", lambda node, m, a, b: _R().Select(m, a, b),
+    Spec("select", 3, ALL, "same", lambda node, m, a, b: reactor.Select(m, a, b),
          lambda a, t, n, ctx: (np.where(a[0], a[1], a[2]), None)),
     Spec("convert", 1, ALL, "param", _emit_convert, _convert),
     Spec("toint", 1, FLOATS, "param",
-         lambda node, x: _R().ToInt(x, node.param[0], unsigned=node.param[1],
+         lambda node, x: reactor.ToInt(x, node.param[0], unsigned=node.param[1],
                                     saturate=node.param[2] if len(node.param) > 2 else True), _toint),
     Spec("bitcast", 1, BITS32, "param", _emit_bitcast, _bitcast),
     Spec("any", 1, frozenset({"Bool"}), "same", _intr("Any", 1), _reduce(np.any), cross_lane=True),
@@ -379,7 +375,7 @@ _SPECS = [
     Spec("extract", 1, ALL, "same", _emit_extract, _extract, cross_lane=True),
     Spec("extract_dyn", 2, ALL, "same", _emit_extract_dyn, _extract_dyn, cross_lane=True),
     Spec("insert", 2, ALL, "same", _emit_insert, _insert, cross_lane=True),
-    Spec("laneindex", 0, frozenset(), "same", lambda node: _R().LaneIndex(), _laneindex, cross_lane=True),
+    Spec("laneindex", 0, frozenset(), "same", lambda node: reactor.LaneIndex(), _laneindex, cross_lane=True),
 ]
 for _sym in ("lt", "le", "gt", "ge"):
     _SPECS.append(Spec(_sym, 2, NUMS, "bool", _b(_BIN[_sym]), _compare(_sym)))

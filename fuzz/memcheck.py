@@ -1,6 +1,6 @@
 """Build, compile, call and drop routines many times; measure resident memory.
 
-``python -m reactor.fuzz memcheck --cycles 10000 [--distinct]``
+``python -m fuzz.memcheck --cycles 10000 [--distinct]``
 
 Each cycle builds a new ``Function`` (and, every 10th cycle, a new ``@kernel``
 ufunc), compiles it, calls it, checks the result and drops it. By default
@@ -13,15 +13,21 @@ Reported: resident set size (RSS) after a warm-up and at the end, the growth
 per cycle, and what must be back to its starting point: compiled-code objects
 alive, executable JIT mappings, kernel registry entries, the memory cache size
 (bounded by ``reactor.jit.cache.MEMORY_ENTRIES``).
+
+The cycles use reactor's public API; only ``_reactor_state`` looks at
+reactor's internals (what the check is about), and nothing else here does.
 """
 from __future__ import annotations
 
 import dataclasses
 import gc
 import os
+import sys
 import time
 
 import numpy as np
+
+from reactor import Float, Function, kernel
 
 
 def rss_mb() -> float:
@@ -40,15 +46,25 @@ def exec_mappings() -> int:
     return n
 
 
-def _alive_code() -> int:
-    from ..jit.compiler import CompiledCode
-    return sum(1 for o in gc.get_objects() if isinstance(o, CompiledCode))
+@dataclasses.dataclass
+class _State:
+    alive_code: int  # compiled-code objects alive
+    kernels_registered: int  # entries of the kernel registry
+    memory_cache: int  # entries of the object-code memory cache
+    memory_cache_bound: int
+
+
+def _reactor_state() -> _State:
+    """What reactor holds: the one place that reads reactor's internals."""
+    from reactor.jit import cache
+    from reactor.jit.compiler import CompiledCode
+    from reactor.kernels import kernel as kernel_module
+    return _State(sum(1 for o in gc.get_objects() if isinstance(o, CompiledCode)), len(kernel_module._registry),
+                  len(cache._memory), cache.MEMORY_ENTRIES)
 
 
 def cycle(k: int, distinct: bool = False) -> None:
     """Build, compile, call, check and drop one routine (and every 10th cycle a ufunc)."""
-    from .. import Float, Function, kernel
-
     c = float(k) + 0.25 if distinct else 1.25  # distinct: a different program for every k
 
     def body(x, y):
@@ -103,12 +119,9 @@ class Report:
 
 
 def memcheck(cycles: int, distinct: bool = False, warmup: int | None = None, progress=None) -> Report:
-    from ..jit import cache
-    from ..kernels import kernel as kernel_module
-
     warmup = min(cycles // 5, 600) if warmup is None else warmup
     gc.collect()
-    maps0, rss0, code0, kernels0 = exec_mappings(), rss_mb(), _alive_code(), len(kernel_module._registry)
+    maps0, rss0, state0 = exec_mappings(), rss_mb(), _reactor_state()
     t0 = time.perf_counter()
     for k in range(cycles):
         cycle(k, distinct)
@@ -122,14 +135,15 @@ def memcheck(cycles: int, distinct: bool = False, warmup: int | None = None, pro
     gc.collect()
     if warmup == 0:
         rss_warm = rss0
-    return Report(cycles, distinct, seconds, rss0, rss_warm, rss_mb(), warmup, code0, _alive_code(), maps0,
-                  exec_mappings(), kernels0, len(kernel_module._registry), len(cache._memory), cache.MEMORY_ENTRIES)
+    state = _reactor_state()
+    return Report(cycles, distinct, seconds, rss0, rss_warm, rss_mb(), warmup, state0.alive_code, state.alive_code,
+                  maps0, exec_mappings(), state0.kernels_registered, state.kernels_registered, state.memory_cache,
+                  state.memory_cache_bound)
 
 
 def main(argv=None) -> int:
     import argparse
-    import sys
-    parser = argparse.ArgumentParser(prog="python -m reactor.fuzz memcheck", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python -m fuzz.memcheck", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--cycles", type=int, default=10_000)
     parser.add_argument("--distinct", action="store_true", help="a different program every cycle")
@@ -138,3 +152,7 @@ def main(argv=None) -> int:
         f"  {k} cycles: RSS {rss:.1f} MB, {s:.0f} s", file=sys.stderr, flush=True))
     print(report.text())
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,137 @@
+"""Build settings: what the user asks for (``BuildOptions``) and what a build uses (``Build``).
+
+``with reactor.options(fma=False, width=8): ...`` changes the defaults for
+everything built in the block on this thread; an explicit keyword argument to
+``Function``/``kernel`` always wins. When a build starts, its options are
+resolved once into an immutable ``Build`` (the target object, the width, FMA,
+precision, optimization level, cache use) that is passed to every layer; no
+layer re-reads thread-local state or changes it mid-build. Inside a body,
+``reactor.fma_mode(...)`` and ``reactor.precision(...)`` give the code of a
+block different settings (a new ``Build`` for that block), and
+``reactor.build_settings()`` tells the code being emitted which settings it has.
+"""
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import enum
+import threading
+
+from .errors import ReactorError
+from .ir.types import WIDTHS
+from .targets import Target, get_target
+
+
+class Precision(str, enum.Enum):
+    """How accurate the math built-ins are (Vulkan's names in brackets).
+
+    ``RELAXED``: Vulkan's RelaxedPrecision (mediump) tolerances; ``FULL``: Vulkan's
+    full precision (highp) tolerances."""
+
+    RELAXED = "relaxed"
+    FULL = "full"
+
+    @classmethod
+    def of(cls, value) -> "Precision":
+        """``value`` as a Precision; a clear error for anything else."""
+        try:
+            return cls(value)
+        except ValueError:
+            names = ", ".join(repr(p.value) for p in cls)
+            raise ReactorError(f"precision must be one of {names}, not {value!r}") from None
+
+    def __str__(self) -> str:
+        return self.value
+
+
+@dataclasses.dataclass(frozen=True)
+class BuildOptions:
+    """The options a user gives (None: the context's or the target's default).
+
+    fma:       True fuses ``MulAdd``; False emits a rounded multiply and an add and
+               never a fused instruction; None: fused where the target has FMA.
+    width:     SIMD width of width-generic code (``SIMD.Float``); None: the
+               target's natural width (16 with AVX-512, 8 with AVX2, else 4).
+    opt:       LLVM optimization level 0..3.
+    target:    a name from ``reactor.TARGETS`` ("host", "avx512", "avx2", "sse4").
+    cache:     use the on-disk object cache.
+    precision: the default precision of the math built-ins ("full", "relaxed").
+    """
+
+    fma: bool | None = None
+    width: int | None = None
+    opt: int | None = None
+    target: str | None = None
+    cache: bool | None = None
+    precision: str | None = None
+
+    def merged(self, **overrides) -> "BuildOptions":
+        given = {k: v for k, v in overrides.items() if v is not None}
+        unknown = set(given) - {f.name for f in dataclasses.fields(self)}
+        if unknown:
+            raise ReactorError(f"unknown build option(s): {', '.join(sorted(unknown))}")
+        return dataclasses.replace(self, **given)
+
+    def resolved(self) -> "Build":
+        """The settings of a build with these options (target-dependent defaults filled in)."""
+        target = self.target if isinstance(self.target, Target) else get_target(self.target or "host")
+        width = self.width if self.width is not None else target.natural_width
+        if width not in WIDTHS:
+            names = ", ".join(map(str, WIDTHS[:-1])) + f" or {WIDTHS[-1]}"
+            raise ReactorError(f"SIMD width must be {names}, not {width!r}")
+        opt = 3 if self.opt is None else self.opt
+        if opt not in (0, 1, 2, 3):
+            raise ReactorError(f"optimization level must be 0..3, not {opt!r}")
+        fma = target.has_fma if self.fma is None else bool(self.fma)
+        precision = Precision.of(self.precision or Precision.FULL)
+        return Build(target, width, fma, opt, True if self.cache is None else bool(self.cache), precision)
+
+
+@dataclasses.dataclass(frozen=True)
+class Build:
+    """The resolved settings of one build (immutable; every layer reads this one object)."""
+
+    target: Target
+    width: int
+    fma: bool
+    opt: int
+    cache: bool
+    precision: Precision
+
+    def replace(self, **changes) -> "Build":
+        if "precision" in changes:
+            changes["precision"] = Precision.of(changes["precision"])
+        return dataclasses.replace(self, **changes)
+
+    def key(self) -> tuple:
+        """What distinguishes two builds' code (hashable; the target by its key)."""
+        return (self.target.key(), self.target.name, self.width, self.fma, self.opt, self.precision.value)
+
+    def describe(self) -> str:
+        """``target=avx512 width=16 fma=on precision=full``."""
+        return (f"target={self.target.name} width={self.width} fma={'on' if self.fma else 'off'} "
+                f"precision={self.precision.value}")
+
+
+_state = threading.local()
+
+
+def current_options() -> BuildOptions:
+    """The innermost ``options(...)`` context of this thread (not resolved)."""
+    stack = getattr(_state, "stack", None)
+    return stack[-1] if stack else BuildOptions()
+
+
+@contextlib.contextmanager
+def options(**overrides):
+    """Context manager that sets default build options on this thread."""
+    if "precision" in overrides and overrides["precision"] is not None:
+        overrides["precision"] = Precision.of(overrides["precision"]).value
+    stack = getattr(_state, "stack", None)
+    if stack is None:
+        stack = _state.stack = []
+    stack.append(current_options().merged(**overrides))
+    try:
+        yield stack[-1]
+    finally:
+        stack.pop()

@@ -1,0 +1,177 @@
+"""Functions you can also call from Python, the modules they compile in, and their routines.
+
+::
+
+    @reactor.function
+    def dot4(a: Pointer[Float4], b: Pointer[Float4]) -> Float:
+        p = a[0] * b[0]
+        return Extract(p, 0) + Extract(p, 1) + Extract(p, 2) + Extract(p, 3)
+
+    dot4(np.ones(4, np.float32), np.arange(4, dtype=np.float32))   # -> 6.0
+    dot4.compile().assembly                                        # machine code
+
+A ``Function`` called while another function is being built emits a call; called
+from Python it compiles (once per set of build settings) and runs the machine code.
+"""
+from __future__ import annotations
+
+import ctypes
+import threading
+
+import numpy as np
+
+from ..build import Build, current_options
+from ..dsl.function import FunctionDef
+from ..errors import ArityError, ReactorError
+from ..ir import emitter as _em
+from ..jit.compiler import CompiledCode
+from . import entry
+
+
+class Function(FunctionDef):
+    """A DSL function: ``Function(body, args=None, returns=..., name=None, **options)``.
+
+    Types come from the body's annotations unless ``args``/``returns`` are given.
+    Build options (fma, width, opt, target, cache, precision) default to the
+    enclosing ``reactor.options`` context at compile time.
+    """
+
+    def __init__(self, body, args=None, returns=..., name: str | None = None, **options):
+        super().__init__(body, args, returns, name, **options)
+        self._compiled: dict[tuple, Routine] = {}
+        self._lock = threading.Lock()
+
+    def build_settings(self, **overrides) -> Build:
+        """The resolved settings of a build of this function (context, then its own options, then ``overrides``)."""
+        return current_options().merged(**self.option_overrides).merged(**overrides).resolved()
+
+    def __call__(self, *args):
+        if _em.building():
+            return self.emit_call(args)
+        return self.compile()(*args)
+
+    def compile(self, **options) -> "Routine":
+        """The routine for these build options (compiled once, then cached)."""
+        build = self.build_settings(**options)
+        with self._lock:
+            routine = self._compiled.get(build.key())
+            if routine is None:
+                routine = self._compiled[build.key()] = Module([self]).compile_with(build)[self.name]
+        return routine
+
+
+def function(body=None, **kwargs):
+    """Decorator form of ``Function``: ``@function`` or ``@function(fma=False)``."""
+    if body is None:
+        return lambda b: Function(b, **kwargs)
+    return Function(body, **kwargs)
+
+
+class Module:
+    """Several functions compiled together into one piece of machine code."""
+
+    def __init__(self, functions=()):
+        self.functions: list[FunctionDef] = list(functions)
+
+    def function(self, body=None, **kwargs):
+        """Decorator that defines a Function and adds it to this module."""
+        def add(b):
+            fn = Function(b, **kwargs)
+            self.functions.append(fn)
+            return fn
+        return add(body) if body is not None else add
+
+    def build(self, build: Build) -> _em.ModuleEmitter:
+        """The module's IR: every function and its C entry point."""
+        names = [f.name for f in self.functions]
+        dupes = {n for n in names if names.count(n) > 1}
+        if dupes:
+            raise ReactorError(f"module has several functions named {', '.join(sorted(dupes))}")
+        mod = _em.ModuleEmitter(self.functions[0].name if self.functions else "module", build)
+        for fn in self.functions:
+            irfn = fn.declare_in(mod, build.width)
+            params, returns = fn.signature.resolved(build.width, f"'{fn.name}'")
+            entry.emit_entry(mod, fn.name, irfn, params, returns)
+        return mod
+
+    def compile(self, **options) -> "Library":
+        return self.compile_with(current_options().merged(**options).resolved())
+
+    def compile_with(self, build: Build) -> "Library":
+        mod = self.build(build)
+        code = CompiledCode(mod.text, build.target, build.opt,
+                            tuple(f.name + entry.SUFFIX for f in self.functions), build.cache, mod.imports)
+        return Library(code, {f.name: Routine(f, code, build, mod.written.get((f, build.width), frozenset()))
+                              for f in self.functions})
+
+
+class Library(dict):
+    """Compiled routines of a module, by name (also as attributes)."""
+
+    def __init__(self, code, routines):
+        super().__init__(routines)
+        self.code = code
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+
+_ENTRY = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
+
+
+class Routine:
+    """A compiled Function, callable from Python with numbers and NumPy arrays.
+
+    Scalars are range-checked and converted; pointer arguments must be
+    C-contiguous NumPy arrays of the pointee's dtype, holding at least the
+    declared number of elements; vector arguments are arrays of ``width``
+    elements. Vector results come back as NumPy arrays.
+    """
+
+    def __init__(self, fn: FunctionDef, code, build: Build, written: frozenset = frozenset()):
+        self.function, self.code, self.build = fn, code, build
+        self.written = written  # indices of the pointer arguments the routine stores to
+        self.name = fn.name
+        self.params, self.returns = fn.signature.resolved(build.width, f"'{fn.name}'")
+        self._entry = None
+
+    def __repr__(self):
+        return f"<reactor.Routine {self.name} {self.build.describe()}>"
+
+    @property
+    def ir(self) -> str:
+        """The module's LLVM IR as built (before optimization)."""
+        return self.code.ir_text
+
+    @property
+    def optimized_ir(self) -> str:
+        return self.code.optimized_ir
+
+    @property
+    def assembly(self) -> str:
+        return self.code.assembly
+
+    @property
+    def address(self) -> int:
+        """Address of the C entry point ``void entry(void **argv, void *ret)``."""
+        return self.code.address(self.name + entry.SUFFIX)
+
+    def __call__(self, *args):
+        names = self.function.signature.names
+        if len(args) != len(self.params):
+            raise ArityError(f"routine '{self.name}' takes {len(self.params)} argument(s) "
+                             f"({', '.join(names)}), got {len(args)}")
+        if self._entry is None:
+            self._entry = _ENTRY(self.address)
+        keep = entry.arguments(self.name, names, self.params, args, self.written)  # alive during the call
+        ptrs = (ctypes.c_void_p * max(1, len(args)))(*[buf.ctypes.data for buf in keep])
+        ret = None
+        if self.returns is not None:
+            ret = np.zeros(self.returns.width, self.returns.kind.dtype)
+        self._entry(ctypes.addressof(ptrs), None if ret is None else ret.ctypes.data)
+        if ret is None:
+            return None
+        return ret[0].item() if self.returns.width == 1 else ret

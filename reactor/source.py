@@ -1,0 +1,76 @@
+"""The Python source of a DSL body: its syntax tree, walked once for every question.
+
+Errors found after a body ran (its returned value, a Python ``return`` inside a
+run-time block) are reported at the user's line, which needs the body's
+source. ``body_tree(code)`` parses it once per code object; ``walk(tree)``
+visits the body's own statements (not those of nested functions or classes)
+with the name of the innermost run-time block (``If``, ``For`` ...) around each.
+"""
+from __future__ import annotations
+
+import ast
+import functools
+import inspect
+import textwrap
+
+#: The context managers whose bodies run at run time, per lane or per iteration.
+RUNTIME_BLOCKS = frozenset({"If", "Elif", "Else", "For", "While"})
+
+
+@functools.lru_cache(maxsize=1024)
+def body_tree(code) -> tuple[ast.FunctionDef, int] | None:
+    """(the ``def`` node, the file line of its first source line) of a code object, or None."""
+    if code is None:
+        return None
+    try:
+        lines, start = inspect.getsourcelines(code)
+        tree = ast.parse(textwrap.dedent("".join(lines)))
+    except (OSError, TypeError, SyntaxError, IndentationError):
+        return None
+    fn = tree.body[0] if tree.body else None
+    if not isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+        return None
+    return fn, start
+
+
+def _block_name(node: ast.With) -> str | None:
+    for item in node.items:
+        call = item.context_expr
+        if isinstance(call, ast.Call):
+            f = call.func
+            name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
+            if name in RUNTIME_BLOCKS:
+                return name
+    return None
+
+
+def walk(node, block: str | None = None):
+    """Yield ``(node, innermost run-time block name or None)`` for the body's own nodes."""
+    for child in ast.iter_child_nodes(node):
+        if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            continue  # nested scopes are not this body
+        yield child, block
+        inner = _block_name(child) if isinstance(child, ast.With) else None
+        yield from walk(child, inner or block)
+
+
+def return_lines(code) -> list[tuple[int, str | None]]:
+    """File lines of the body's ``return <value>`` statements, with their enclosing block."""
+    parsed = body_tree(code)
+    if parsed is None:
+        return []
+    fn, start = parsed
+    return [(start + node.lineno - 1, block) for node, block in walk(fn)
+            if isinstance(node, ast.Return) and node.value is not None]
+
+
+def returns_in_blocks(code):
+    """``((file, line), block)`` of the first ``return`` inside a run-time block, or None."""
+    parsed = body_tree(code)
+    if parsed is None:
+        return None
+    fn, start = parsed
+    for node, block in walk(fn):
+        if isinstance(node, ast.Return) and block:
+            return (code.co_filename, start + node.lineno - 1), block
+    return None
