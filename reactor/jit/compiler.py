@@ -111,3 +111,25 @@ class CompiledCode:
         mod = pipeline(self.ir_text, self.target, self.opt)
         with _lock:
             return self.target.machine.emit_assembly(mod)
+
+
+class ShowsCode:
+    """The text views of something compiled, for readers of IR and assembly (``self.code``
+    is its ``CompiledCode``)."""
+
+    code: CompiledCode
+
+    @property
+    def ir(self) -> str:
+        """The module's LLVM IR as built (before optimization)."""
+        return self.code.ir_text
+
+    @property
+    def optimized_ir(self) -> str:
+        """The module's IR after LLVM's optimization pipeline."""
+        return self.code.optimized_ir
+
+    @property
+    def assembly(self) -> str:
+        """The machine code, as assembly."""
+        return self.code.assembly

@@ -25,7 +25,7 @@ from ..dsl.signature import Signature
 from ..errors import DSLTypeError, ReactorError
 from ..ir import emitter as _em
 from ..ir.types import PointerType, VType
-from ..jit.compiler import CompiledCode
+from ..jit.compiler import CompiledCode, ShowsCode
 from . import parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher
 from .ufunc_api import make_ufunc
@@ -35,7 +35,7 @@ _registry_lock = threading.Lock()
 _memo: "dict[tuple, weakref.ref]" = {}
 
 
-class Kernel:
+class Kernel(ShowsCode):
     """A compiled kernel: its ufunc's machine code and how it was made."""
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
@@ -53,19 +53,6 @@ class Kernel:
         self._loop = self.code.address(entry_name)
         self.config = parallel.make_config(self.code.address(loop_name), len(ins) + len(outs))
         self._signature = [[k.dtype for k in ins + outs]]
-
-    @property
-    def ir(self) -> str:
-        """The module's LLVM IR as built."""
-        return self.code.ir_text
-
-    @property
-    def optimized_ir(self) -> str:
-        return self.code.optimized_ir
-
-    @property
-    def assembly(self) -> str:
-        return self.code.assembly
 
     def __repr__(self):
         return f"<reactor.Kernel {self.name} {self.build.describe()}>"

@@ -24,7 +24,7 @@ from ..build import Build, current_options
 from ..dsl.function import FunctionDef
 from ..errors import ArityError, ReactorError
 from ..ir import emitter as _em
-from ..jit.compiler import CompiledCode
+from ..jit.compiler import CompiledCode, ShowsCode
 from . import entry
 
 
@@ -122,7 +122,7 @@ class Library(dict):
 _ENTRY = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 
 
-class Routine:
+class Routine(ShowsCode):
     """A compiled Function, callable from Python with numbers and NumPy arrays.
 
     Scalars are range-checked and converted; pointer arguments must be
@@ -140,19 +140,6 @@ class Routine:
 
     def __repr__(self):
         return f"<reactor.Routine {self.name} {self.build.describe()}>"
-
-    @property
-    def ir(self) -> str:
-        """The module's LLVM IR as built (before optimization)."""
-        return self.code.ir_text
-
-    @property
-    def optimized_ir(self) -> str:
-        return self.code.optimized_ir
-
-    @property
-    def assembly(self) -> str:
-        return self.code.assembly
 
     @property
     def address(self) -> int:
