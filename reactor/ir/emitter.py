@@ -96,6 +96,11 @@ class ModuleEmitter:
         """The module's IR as text."""
         return str(self.module)
 
+    @staticmethod
+    def instruction_count(fn) -> int:
+        """How many instructions function ``fn`` of this module holds (as built)."""
+        return sum(len(block.instructions) for block in fn.blocks)
+
 
 def _llvm(t) -> ir.Type:
     if t is None:
@@ -315,10 +320,19 @@ class FunctionEmitter:
             instr.attributes.add("noinline")
         return instr
 
-    def call_pointer(self, ptr, like, args, name: str = ""):
-        """Call the function at address ``ptr`` (any pointer), which has the type of function ``like``."""
-        fn = self._b.bitcast(ptr, like.function_type.as_pointer(), name="fnptr")
+    def call_pointer(self, ptr, ret, params, args, name: str = ""):
+        """Call the function at address ``ptr`` (any pointer) of type ``ret(params...)`` (reactor types)."""
+        fnty = ir.FunctionType(_llvm(ret), [_llvm(p) for p in params])
+        fn = self._b.bitcast(ptr, fnty.as_pointer(), name="fnptr")
         return self._b.call(fn, args, name=name)
+
+    def function_address(self, fn, name: str = "fn"):
+        """The address of function ``fn`` of this module, as a byte pointer."""
+        return self._b.bitcast(fn, ir.IntType(8).as_pointer(), name=name)
+
+    def atomic_add(self, ptr, value, name: str = "old"):
+        """Atomically add ``value`` to ``*ptr`` (monotonic order); the value before."""
+        return self._b.atomic_rmw("add", ptr, value, "monotonic", name=name)
 
     def intrinsic(self, name: str, ret, args) -> ir.Function:
         return self.module.declare(name, ret, args)

@@ -133,7 +133,7 @@ class PointerType:
     beyond "at least one element").
     """
 
-    pointee: "VType | PointerType"
+    pointee: "VType | PointerType | StructType"
     length: int | str | None = None
 
     @property
@@ -160,11 +160,13 @@ BYTES_ARRAY = PointerType(BYTES)
 class StructType:
     """Several values returned together (a kernel body with several outputs)."""
 
-    fields: tuple[VType, ...]
+    fields: tuple
 
     @property
     def ir(self) -> ir.Type:
         return ir.LiteralStructType([f.ir for f in self.fields])
+
+    mem_ir = ir
 
     @property
     def name(self) -> str:

@@ -27,7 +27,7 @@ from ..ir import emitter as _em
 from ..ir.types import PointerType, VType
 from ..jit.compiler import CompiledCode, ShowsCode
 from . import parallel
-from .loop import LoopEmitter, emit_body, emit_dispatcher
+from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
 from .ufunc_api import make_ufunc
 
 _registry: "dict[int, weakref.ref[Kernel]]" = {}
@@ -51,7 +51,8 @@ class Kernel(ShowsCode):
         self.code = CompiledCode(module.text, build.target, build.opt, (loop_name, entry_name), build.cache,
                                  module.imports)
         self._loop = self.code.address(entry_name)
-        self.config = parallel.make_config(self.code.address(loop_name), len(ins) + len(outs))
+        self.cycles_per_element = estimated_cycles(vector or scalar, build.width if vector else 1)
+        self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element)
         self._signature = [[k.dtype for k in ins + outs]]
 
     def __repr__(self):

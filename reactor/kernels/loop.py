@@ -34,6 +34,7 @@ from ..ir import emitter as _em
 from ..ir import ops, x86
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
+from .parallel import CYCLES_SCALE
 
 BOOL = KINDS["Bool"]
 LOOP_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), T.BYTES]
@@ -233,22 +234,41 @@ class LoopEmitter:
         em.goto(done)
 
 
+def estimated_cycles(body_fn, width: int) -> float:
+    """A rough cost of one element: the body's instructions (as built) over the width, at
+    two vector instructions per cycle, plus the loop's own. It only decides whether a call
+    is worth splitting across threads."""
+    return _em.ModuleEmitter.instruction_count(body_fn) / width / 2 + 0.25
+
+
 def emit_dispatcher(module, name: str, serial) -> object:
-    """``<name>.ufunc``: the loop NumPy calls. ``data`` points to a
-    ``parallel.LoopConfig``; calls of at least ``*threshold`` elements go to its
-    hook (which splits them across threads), all others straight to ``serial``."""
+    """``<name>.ufunc``: the loop NumPy calls. ``data`` points to the kernel's
+    ``parallel.LoopConfig``; a call worth splitting (see ``parallel``) goes to the
+    native ``reactor_parallel_for``, every other one straight to ``serial``."""
     em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES)
-    cfg_t = T.StructType((T.BYTES, T.BYTES, T.PointerType(INDEX), INDEX))
+    settings_t = T.StructType((INDEX, INDEX, INDEX, T.BYTES))
+    config_t = T.StructType((T.PointerType(settings_t), INDEX, INDEX))
     with em:
         args, dims, steps, data = em.params
-        cfg = em.cast_pointer(data, cfg_t, name="config")
-        hook = em.load(em.field(cfg, 1, name="hook.p"), name="hook")
-        threshold = em.load(em.load(em.field(cfg, 2, name="threshold.p"), name="threshold.addr"), name="threshold")
+        cfg = em.cast_pointer(data, config_t, name="config")
+        settings = em.load(em.field(cfg, 0), name="settings")
+        nargs, cycles = (em.load(em.field(cfg, k), name=n) for k, n in ((1, "nargs"), (2, "cycles")))
+        threads, threshold, min_work = (em.load(em.field(settings, k), name=n)
+                                        for k, n in enumerate(("threads", "threshold", "min_work")))
         n = em.load(dims, name="n")
+        work = ops.binary(em, "mul", INDEX, n, cycles)
+        budget = ops.binary(em, "mul", INDEX, min_work, _idx(CYCLES_SCALE))
+        split = []
+        for cond in (("gt", threads, _idx(1)), ("ge", n, threshold), ("ge", work, budget)):
+            split.append(ops.compare(em, INDEX, *cond))
+        bool1 = VType(BOOL, 1)
+        worth = ops.binary(em, "and", bool1, ops.binary(em, "and", bool1, split[0], split[1]), split[2])
         parallel, serial_block = em.new_block("parallel"), em.new_block("serial")
-        em.cbranch(ops.compare(em, INDEX, "ge", n, threshold), parallel, serial_block)
+        em.cbranch(worth, parallel, serial_block)
         em.goto(parallel)
-        em.call_pointer(hook, serial, [args, dims, steps, data])
+        parallel_for = em.load(em.field(settings, 3), name="parallel_for")
+        em.call_pointer(parallel_for, None, [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX],
+                        [em.function_address(serial, name="serial"), args, dims, steps, data, nargs, threads])
         em.ret(None)
         em.goto(serial_block)
         em.call(serial, [args, dims, steps, data])

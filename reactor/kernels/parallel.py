@@ -1,42 +1,79 @@
-"""Multi-core kernels: large ufunc calls are split across threads.
+"""Multi-core kernels: large calls split across threads in native code, no Python inside.
 
-Every kernel's ufunc loop is a small JIT dispatcher (``<name>.ufunc``). NumPy
-passes it the ``data`` pointer registered with the loop, which points to a
-``LoopConfig``: the address of the serial loop, of this module's hook, and of
-the process-wide threshold. When ``n >= threshold`` the dispatcher calls the
-hook, which cuts ``[0, n)`` into one contiguous chunk per thread (aligned to
-64 elements so vector loops stay whole), runs all but the first on a thread
-pool and the first itself, and returns when all are done. The serial loop is
-called through ctypes, which releases the GIL, so the chunks really run in
-parallel. Below the threshold the dispatcher calls the serial loop directly:
-small calls pay nothing.
+Every kernel's ufunc loop is a small dispatcher (``<name>.ufunc``). NumPy passes
+it the ``data`` pointer registered with the loop, which points to the kernel's
+``LoopConfig``: its operand count, the estimated cost of one element
+(``cycles_per_element``, from the size of its vector body) and the
+process-wide ``Settings``. A call is split when there is more than one thread,
+at least ``threshold`` elements and an estimated ``n * cycles_per_element`` of
+at least ``min_work`` cycles: splitting is decided by work, so a shader of a
+million pixels is split and a copy of a million floats is not.
 
-``configure(threads=..., threshold=...)`` changes both for every kernel;
-``REACTOR_THREADS`` sets the default thread count (default: the CPUs this
-process may run on).
+A split call goes to ``reactor_parallel_for``, JIT-compiled once per process
+from IR (``runtime()``): it starts ``threads - 1`` POSIX threads for this call
+(``pthread_create``), which with the calling thread take chunks of the index
+space from an atomic counter (aligned to 64 elements, about four per thread,
+so a busy core takes fewer), and returns only after ``pthread_join`` of every
+thread: the output is complete when the ufunc returns. No Python runs during
+the call, so a signal (Ctrl-C, an alarm whose handler raises) is taken when
+the call returns, as for NumPy's own long calls; no thread outlives a call, so
+a process forked afterwards (``multiprocessing`` with ``fork``) has nothing to
+reset. A thread that cannot be created leaves its share to the others.
+
+``configure(threads=..., threshold=..., min_work=...)`` changes the settings for
+every kernel; ``REACTOR_THREADS`` sets the default thread count (default: the
+CPUs this process may run on).
 """
 from __future__ import annotations
 
-import concurrent.futures
 import ctypes
+import functools
 import os
 import threading
+from typing import NamedTuple
 
-LOOP = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
+from ..build import BuildOptions
+from ..ir import emitter as _em
+from ..ir import ops
+from ..ir import types as T
+from ..ir.types import INDEX, KINDS, VType
+from ..jit.compiler import CompiledCode
 
-#: Elements below which a call stays on one thread. Handing chunks to the pool
-#: costs ~40-60 us here; measured break-even is near 2^19 elements for exp2, so
-#: 2^20 keeps every parallel call clearly ahead (benchmarks/bench_parallel.py).
-DEFAULT_THRESHOLD = 2 ** 20
-_NEVER = 2 ** 62
+#: Chunks are multiples of this many elements, so vector loops stay whole.
 ALIGN = 64
+#: Chunks per thread: a core slowed by other work takes fewer of them.
+CHUNKS_PER_THREAD = 4
+#: At most this many threads per call.
+MAX_THREADS = 256
+DEFAULT_THRESHOLD = 4096
+#: Estimated cycles a call must cost before it is split: starting and joining a
+#: thread costs ~15-40 us, so the split pays from a few hundred microseconds
+#: (benchmarks/bench_parallel.py measures it).
+DEFAULT_MIN_WORK = 600_000
+CYCLES_SCALE = 256  # LoopConfig.cycles_per_element is fixed point, 1/256 cycle
+
+
+class SettingsStruct(ctypes.Structure):
+    """What every dispatcher reads at each call (one per process)."""
+
+    _fields_ = [("threads", ctypes.c_int64), ("threshold", ctypes.c_int64), ("min_work", ctypes.c_int64),
+                ("parallel_for", ctypes.c_void_p)]
 
 
 class LoopConfig(ctypes.Structure):
     """What a kernel's dispatcher reads through NumPy's per-loop ``data`` pointer."""
 
-    _fields_ = [("serial", ctypes.c_void_p), ("hook", ctypes.c_void_p),
-                ("threshold", ctypes.POINTER(ctypes.c_int64)), ("nargs", ctypes.c_int64)]
+    _fields_ = [("settings", ctypes.POINTER(SettingsStruct)), ("nargs", ctypes.c_int64),
+                ("cycles_per_element", ctypes.c_int64)]
+
+
+class Settings(NamedTuple):
+    """The thread settings: ``threads``, and when a call is split (``threshold`` elements
+    and ``min_work`` estimated cycles, both needed)."""
+
+    threads: int
+    threshold: int
+    min_work: int
 
 
 def _default_threads() -> int:
@@ -49,76 +86,148 @@ def _default_threads() -> int:
         return os.cpu_count() or 1
 
 
-_threads = _default_threads()
-_threshold = ctypes.c_int64(DEFAULT_THRESHOLD if _threads > 1 else _NEVER)
-_pool: concurrent.futures.ThreadPoolExecutor | None = None
-_pool_lock = threading.Lock()
+_settings = SettingsStruct(min(_default_threads(), MAX_THREADS), DEFAULT_THRESHOLD, DEFAULT_MIN_WORK, None)
+_lock = threading.Lock()
 
 
-def configure(threads: int | None = None, threshold: int | None = None) -> tuple[int, int]:
-    """Set the thread count and/or the parallel threshold; returns the new (threads, threshold)."""
-    global _threads, _pool
-    with _pool_lock:
-        if threads is not None:
-            if threads < 1:
-                raise ValueError("threads must be >= 1")
-            _threads = threads
-            if _pool is not None:
-                _pool.shutdown(wait=True)
-                _pool = None
-        if threshold is not None:
-            if threshold < 1:
-                raise ValueError("threshold must be >= 1")
-            _threshold.value = threshold
-        elif threads is not None:
-            _threshold.value = DEFAULT_THRESHOLD if _threads > 1 else _NEVER
-        if _threads == 1:
-            _threshold.value = _NEVER
-        return _threads, _threshold.value
+def configure(threads: int | None = None, threshold: int | None = None, min_work: int | None = None) -> Settings:
+    """Set the thread count, the minimum elements and the minimum estimated cycles of a split call."""
+    with _lock:
+        for name, value, low in (("threads", threads, 1), ("threshold", threshold, 1), ("min_work", min_work, 0)):
+            if value is not None:
+                if not isinstance(value, int) or isinstance(value, bool) or value < low:
+                    raise ValueError(f"{name} must be an int >= {low}, not {value!r}")
+                setattr(_settings, name, min(value, MAX_THREADS) if name == "threads" else value)
+        return settings()
 
 
-def settings() -> tuple[int, int]:
-    """The current (threads, threshold)."""
-    return _threads, _threshold.value
+def settings() -> Settings:
+    """The current thread settings."""
+    return Settings(_settings.threads, _settings.threshold, _settings.min_work)
 
 
-def _executor():
-    global _pool
-    with _pool_lock:
-        if _pool is None:
-            _pool = concurrent.futures.ThreadPoolExecutor(max(1, _threads - 1), thread_name_prefix="reactor")
-        return _pool
-
-
-def _split(n: int, parts: int) -> list[tuple[int, int]]:
-    step = -(-n // parts)
-    step = -(-step // ALIGN) * ALIGN
-    return [(lo, min(lo + step, n)) for lo in range(0, n, step)]
-
-
-def _run(args, dims, steps, data):
-    """The hook: run the serial loop on one chunk per thread (called with the GIL)."""
-    cfg = LoopConfig.from_address(data)
-    nargs = cfg.nargs
-    n = ctypes.c_int64.from_address(dims).value
-    argv = (ctypes.c_void_p * nargs).from_address(args)
-    stepv = (ctypes.c_int64 * nargs).from_address(steps)
-    serial = LOOP(cfg.serial)
-    calls = []
-    for lo, hi in _split(n, _threads):
-        sub_args = (ctypes.c_void_p * nargs)(*[(argv[k] or 0) + lo * stepv[k] for k in range(nargs)])
-        sub_dims = (ctypes.c_int64 * 1)(hi - lo)
-        calls.append((sub_args, sub_dims))
-    pending = [_executor().submit(serial, a, d, steps, data) for a, d in calls[1:]]
-    serial(calls[0][0], calls[0][1], steps, data)
-    for f in pending:
-        f.result()
-
-
-HOOK = LOOP(_run)
-
-
-def make_config(serial_address: int, nargs: int) -> LoopConfig:
+def make_config(nargs: int, cycles_per_element: float) -> LoopConfig:
     """The ``data`` block for one kernel loop (keep it alive as long as the ufunc)."""
-    return LoopConfig(serial_address, ctypes.cast(HOOK, ctypes.c_void_p).value,
-                      ctypes.pointer(_threshold), nargs)
+    if _settings.parallel_for is None:
+        _settings.parallel_for = runtime().address("reactor_parallel_for")
+    cycles = max(1, int(round(cycles_per_element * CYCLES_SCALE)))
+    return LoopConfig(ctypes.pointer(_settings), nargs, cycles)
+
+
+# -- the native runtime ------------------------------------------------------------------------
+
+@functools.cache
+def runtime():
+    """The compiled ``reactor_parallel_for`` of this process (built once, cached on disk)."""
+    build = BuildOptions(target="host", width=1).resolved()
+    module = _em.ModuleEmitter("reactor.parallel", build)
+    _emit_runtime(module)
+    return CompiledCode(module.text, build.target, build.opt, ("reactor_parallel_for",), build.cache)
+
+
+def _emit_runtime(module) -> None:
+    from .loop import LOOP_PARAMS  # loop.py imports this module
+
+    bool1, i32 = VType(KINDS["Bool"], 1), VType(KINDS["Int"], 1)
+    idx = lambda v: T.const(INDEX, v)  # noqa: E731
+    # struct Task { loop, args, steps, data, nargs, n, chunk, next }
+    task_t = T.StructType((T.BYTES, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES, INDEX, INDEX, INDEX, INDEX))
+    create = module.declare("pthread_create", i32, [T.PointerType(INDEX), T.BYTES, T.BYTES, T.BYTES])
+    join = module.declare("pthread_join", i32, [INDEX, T.BYTES])
+
+    def add(em, a, b):
+        return ops.binary(em, "add", INDEX, a, b)
+
+    # void *reactor_parallel_worker(void *task): take chunks until none is left.
+    worker = _em.FunctionEmitter(module, "reactor_parallel_worker", T.BYTES, [T.BYTES], ["task"], width=1)
+    with worker as em:
+        task = em.cast_pointer(em.params[0], task_t, name="t")
+        f = [em.load(em.field(task, k), name=name) for k, name in
+             enumerate(("loop", "args", "steps", "data", "nargs", "n", "chunk"))]
+        loop, args, steps, data, nargs, n, chunk = f
+        sub_args = em.alloca(T.BYTES, "sub_args", count=64)  # NumPy ufuncs have at most 64 operands
+        sub_n = em.alloca(INDEX, "sub_n")
+        head, body, copy, call, done = (em.new_block(b) for b in ("take", "chunk", "args", "run", "done"))
+        em.branch(head)
+        em.goto(head)
+        lo = em.atomic_add(em.field(task, 7), chunk, name="lo")
+        em.cbranch(ops.compare(em, INDEX, "lt", lo, n), body, done)
+        em.goto(body)
+        hi = add(em, lo, chunk)
+        hi = em.select(ops.compare(em, INDEX, "lt", hi, n), hi, n, name="hi")
+        em.store(ops.binary(em, "sub", INDEX, hi, lo), sub_n)
+        k_slot = em.alloca(INDEX, "k")
+        em.store(idx(0), k_slot)
+        em.branch(copy)
+        em.goto(copy)
+        k = em.load(k_slot, name="k")
+        more, each = em.new_block("args.more"), em.new_block("args.each")
+        em.cbranch(ops.compare(em, INDEX, "lt", k, nargs), each, call)
+        em.goto(each)
+        base = em.load(em.address(args, k), name="base")
+        step = em.load(em.address(steps, k), name="step")
+        em.store(em.address(base, ops.binary(em, "mul", INDEX, lo, step)), em.address(sub_args, k))
+        em.store(add(em, k, idx(1)), k_slot)
+        em.branch(more)
+        em.goto(more)
+        em.branch(copy)
+        em.goto(call)
+        em.call_pointer(loop, None, LOOP_PARAMS, [sub_args, sub_n, steps, data])
+        em.branch(head)
+        em.goto(done)
+        em.ret(T.null(T.BYTES))
+        em.finish()
+
+    # void reactor_parallel_for(loop, args, dims, steps, data, nargs, threads)
+    params = [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX]
+    names = ["loop", "args", "dims", "steps", "data", "nargs", "threads"]
+    pf = _em.FunctionEmitter(module, "reactor_parallel_for", None, params, names, width=1)
+    with pf as em:
+        loop, args, dims, steps, data, nargs, threads = em.params
+        n = em.load(dims, name="n")
+        per = ops.binary(em, "mul", INDEX, threads, idx(CHUNKS_PER_THREAD))
+        chunk = ops.binary(em, "div", INDEX, add(em, n, ops.binary(em, "sub", INDEX, per, idx(1))), per)
+        chunk = ops.binary(em, "and", INDEX, add(em, chunk, idx(ALIGN - 1)), idx(-ALIGN))
+        task = em.alloca(task_t, "task")
+        for k, v in enumerate((loop, args, steps, data, nargs, n, chunk, idx(0))):
+            em.store(v, em.field(task, k))
+        tids = em.alloca(INDEX, "tids", count=MAX_THREADS)
+        made = em.alloca(T.BYTE, "made", count=MAX_THREADS)
+        task_p = em.cast_pointer(task, T.BYTE, name="task.p")
+        worker_p = em.function_address(worker.function, name="worker")
+        t_slot = em.alloca(INDEX, "t")
+        # start threads 1 .. threads-1
+        em.store(idx(1), t_slot)
+        start_head, start_body, start_done = em.new_block("start"), em.new_block("start.one"), em.new_block("run")
+        em.branch(start_head)
+        em.goto(start_head)
+        t = em.load(t_slot, name="t")
+        em.cbranch(ops.compare(em, INDEX, "lt", t, threads), start_body, start_done)
+        em.goto(start_body)
+        rc = em.call(create, [em.address(tids, t), T.null(T.BYTES), worker_p, task_p], name="rc")
+        ok = ops.compare(em, i32, "eq", rc, T.const(i32, 0))
+        em.store(ops.to_memory(em, bool1, ok), em.address(made, t))
+        em.store(add(em, t, idx(1)), t_slot)
+        em.branch(start_head)
+        em.goto(start_done)
+        em.call(worker.function, [task_p])  # the calling thread works too
+        # join every thread that was started
+        em.store(idx(1), t_slot)
+        join_head, join_body, join_one, join_next, end = (em.new_block(b) for b in
+                                                          ("join", "join.test", "join.one", "join.next", "end"))
+        em.branch(join_head)
+        em.goto(join_head)
+        t = em.load(t_slot, name="t")
+        em.cbranch(ops.compare(em, INDEX, "lt", t, threads), join_body, end)
+        em.goto(join_body)
+        was_made = ops.from_memory(em, bool1, em.load(em.address(made, t), name="made"))
+        em.cbranch(was_made, join_one, join_next)
+        em.goto(join_one)
+        em.call(join, [em.load(em.address(tids, t), name="tid"), T.null(T.BYTES)])
+        em.branch(join_next)
+        em.goto(join_next)
+        em.store(add(em, t, idx(1)), t_slot)
+        em.branch(join_head)
+        em.goto(end)
+        em.ret(None)
+        em.finish()

@@ -2,17 +2,18 @@
 import numpy as np
 import pytest
 
+import reactor
+
 import routines
 from reactor import Float, MulAdd, kernel
-from reactor.kernels import parallel
 
 
 @pytest.fixture
 def two_threads_low_threshold():
-    saved = parallel.settings()
-    parallel.configure(threads=2, threshold=100)
+    saved = reactor.thread_settings()
+    reactor.configure_threads(threads=2, threshold=100, min_work=0)
     yield
-    parallel.configure(threads=saved[0], threshold=saved[1])
+    reactor.configure_threads(**saved._asdict())
 
 
 @kernel
@@ -21,12 +22,12 @@ def fused(x: Float, y: Float) -> (Float, Float):
 
 
 def _serial(fn, *args, **kw):
-    saved = parallel.settings()
-    parallel.configure(threads=1)
+    saved = reactor.thread_settings()
+    reactor.configure_threads(threads=1)
     try:
         return fn(*args, **kw)
     finally:
-        parallel.configure(threads=saved[0], threshold=saved[1])
+        reactor.configure_threads(**saved._asdict())
 
 
 @pytest.mark.parametrize("n", [100, 101, 1000, 4097, 100_003])
@@ -53,10 +54,22 @@ def test_parallel_with_strides_out_and_where(two_threads_low_threshold):
 
 
 def test_configure_validates_and_reports():
-    saved = parallel.settings()
+    saved = reactor.thread_settings()
     try:
-        assert parallel.configure(threads=1)[1] >= 2 ** 62  # one thread: never split
-        with pytest.raises(ValueError):
-            parallel.configure(threads=0)
+        assert reactor.configure_threads(threads=1, min_work=5).threads == 1
+        assert reactor.thread_settings() == (1, saved.threshold, 5)
+        for bad in (dict(threads=0), dict(threshold=0), dict(min_work=-1), dict(threads=1.5)):
+            with pytest.raises(ValueError):
+                reactor.configure_threads(**bad)
     finally:
-        parallel.configure(threads=saved[0], threshold=saved[1])
+        reactor.configure_threads(**saved._asdict())
+
+
+def test_splitting_follows_the_estimated_work():
+    cheap = kernel(lambda x: x + 1.0, args=[Float], returns=Float, name="cheap_copy")
+    costly = kernel(lambda x: routines.pow(x, x) + routines.exp2(x), args=[Float], returns=Float, name="costly")
+    from reactor import kernel_of
+    assert kernel_of(costly).cycles_per_element > 3 * kernel_of(cheap).cycles_per_element
+    min_work = reactor.thread_settings().min_work
+    # a copy of a million floats is not worth two threads; a shader of a million pixels is
+    assert 2 ** 20 * kernel_of(cheap).cycles_per_element < min_work < 2 ** 20 * kernel_of(costly).cycles_per_element

@@ -8,10 +8,11 @@ import time
 import numpy as np
 import pytest
 
+import reactor
+
 import routines
 from fuzz import check, program_for
 from reactor import DSLTypeError, Float, For, Function, Int, MulAdd, Select, Variable, kernel
-from reactor.kernels import parallel
 
 DURATION = 4.0  # seconds of concurrent work
 
@@ -139,10 +140,10 @@ class _Counter:
 
 @pytest.fixture
 def one_thread_kernels():
-    saved = parallel.settings()
-    parallel.configure(threads=1)
+    saved = reactor.thread_settings()
+    reactor.configure_threads(threads=1)
     yield
-    parallel.configure(threads=saved[0], threshold=saved[1])
+    reactor.configure_threads(**saved._asdict())
 
 
 def test_kernel_and_routine_calls_release_the_gil(one_thread_kernels, capsys):

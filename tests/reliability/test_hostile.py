@@ -8,11 +8,12 @@ import sys
 import numpy as np
 import pytest
 
+import reactor
+
 import routines
 from reactor import (
     ArgumentError, ArityError, Bool, Float, Float4, For, Int, Pointer, Variable, function, kernel,
 )
-from reactor.kernels import parallel
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -131,13 +132,13 @@ def _where():
 
 
 def _parallel_reversed():
-    saved = parallel.settings()
-    parallel.configure(threads=2, threshold=1000)
+    saved = reactor.thread_settings()
+    reactor.configure_threads(threads=2, threshold=1000, min_work=0)
     try:
         x = np.linspace(-2, 2, 10_001, dtype=np.float32)
         return k2(x[::-1], x[::-1]), ref(x[::-1], x[::-1])
     finally:
-        parallel.configure(threads=saved[0], threshold=saved[1])
+        reactor.configure_threads(**saved._asdict())
 
 
 def _routine_layouts(name):
