@@ -41,7 +41,8 @@ def _build(name, precision, fma, width, target, tag_width):
     tag = f"{name}_{precision.value}_{'fma' if fma else 'nofma'}" + (f"_w{width}" if tag_width else "")
     where = get_target(target)
     doc = (f"{name}, {precision.value} precision, FMA {'on' if fma else 'off'}, {width} lane{'s' * (width > 1)}, "
-           f"target {target} ({where.cpu}), float32.")
+           f"target {target} ({where.cpu}). float32 only: NumPy refuses a float64 array under its default "
+           f"casting; compute one in float32 with dtype=np.float32, casting='same_kind'.")
     if name in BINARY:
         builder = BINARY[name]
 

@@ -13,6 +13,19 @@ SIMD width on the vector path and scalars on the strided path. Several
 inputs and several outputs (``-> (Float, Float)``) are supported. The result
 is an ordinary ufunc (``isinstance(saxpy, numpy.ufunc)``); ``kernel_of(saxpy)``
 returns its ``Kernel`` with the IR, optimized IR and assembly.
+
+Several signatures make one ufunc with one loop each, as numba's
+``@vectorize([...])`` (the body is kind-generic; NumPy picks the loop)::
+
+    @reactor.kernel(["float32(float32, float32)", "float64(float64, float64)"])
+    def hypot(x, y):
+        return Sqrt(x * x + y * y)
+
+Types are NumPy's names (float32, float64, int32, uint32, bool) or reactor's
+(Float, Double, Int, UInt, Bool); several results are written
+``(float32, bool)(float32)``. A signature with 64-bit elements is built at
+half the target's natural width (the same bytes per vector) unless a width
+is given.
 """
 from __future__ import annotations
 
@@ -20,11 +33,16 @@ import ctypes
 import threading
 import weakref
 
+import re
+
+import numpy as np
+
 from ..build import Build, current_options
 from ..dsl.signature import Signature
+from ..dsl.values import value_class
 from ..errors import DSLTypeError, ReactorError
 from ..ir import emitter as _em
-from ..ir.types import PointerType, VType
+from ..ir.types import KINDS, PointerType, VType
 from ..jit.compiler import CompiledCode, ShowsCode
 from . import parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
@@ -54,6 +72,7 @@ class Kernel(ShowsCode):
         self.cycles_per_element = estimated_cycles(vector or scalar, build.width if vector else 1)
         self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element)
         self._signature = [[k.dtype for k in ins + outs]]
+        self.types = "".join(k.dtype.char for k in ins) + "->" + "".join(k.dtype.char for k in outs)
 
     def __repr__(self):
         return f"<reactor.Kernel {self.name} {self.build.describe()}>"
@@ -73,30 +92,102 @@ def _kinds(signature: Signature, name: str):
     return [p.kind for p in params], [r.kind for r in outs]
 
 
-def build_kernel(body, *, name: str | None = None, args=None, returns=..., **options):
+def build_kernel(body, *, name: str | None = None, args=None, returns=..., signatures=None, **options):
     """Compile ``body`` into a ufunc (see module docstring); options as for Function."""
     import inspect
 
     name = name or body.__name__
-    signature = Signature.from_function(body, args, inspect.Parameter.empty if returns is ... else returns)
-    build = current_options().merged(**options).resolved()
-    key = (body, name, signature, build)
-    cached = _memo.get(key)
-    cached = cached() if cached is not None else None
-    if cached is not None and cached.ufunc_ref() is not None:
-        return cached.ufunc_ref()
-    kern = Kernel(body, name, signature, build)
-    doc = (body.__doc__ or f"reactor kernel '{name}'").strip()
-    kern.ufunc_ref = ref = _UfuncRef()
-    ufunc = make_ufunc(name, doc, [kern._loop], kern._signature, len(kern.in_kinds),
-                       len(kern.out_kinds), owner=(kern, _UfuncFreed(ref)),
-                       data=[ctypes.addressof(kern.config)])
+    if signatures:
+        sigs = [parse_signature(text, body) for text in signatures]
+    else:
+        sigs = [Signature.from_function(body, args, inspect.Parameter.empty if returns is ... else returns)]
+    base = current_options().merged(**options)
+    builds = [_build_for(sig, base, name) for sig in sigs]
+    key = (body, name, tuple(sigs), tuple(builds))
+    group = _memo.get(key)
+    group = group() if group is not None else None
+    if group is not None and group.ufunc_ref() is not None:
+        return group.ufunc_ref()
+    kernels = [Kernel(body, name, sig, build) for sig, build in zip(sigs, builds)]
+    shapes = {(len(k.in_kinds), len(k.out_kinds)) for k in kernels}
+    inputs = [tuple(k.in_kinds) for k in kernels]
+    if len(shapes) > 1 or len(set(inputs)) < len(inputs):
+        raise DSLTypeError(f"kernel '{name}': its signatures need the same numbers of inputs and outputs "
+                           f"and different input types")
+    group = Kernels(kernels)
+    doc = (body.__doc__ or f"reactor kernel '{name}'").strip() + "\n\nBuilt for " + \
+        "; ".join(f"{k.types}: {k.build.describe()}" for k in kernels) + "."
+    group.ufunc_ref = ref = _UfuncRef()
+    ufunc = make_ufunc(name, doc, [k._loop for k in kernels], [k._signature[0] for k in kernels],
+                       len(kernels[0].in_kinds), len(kernels[0].out_kinds), owner=(group, _UfuncFreed(ref)),
+                       data=[ctypes.addressof(k.config) for k in kernels])
     ref._id = id(ufunc)
+    for k in kernels:
+        k.ufunc_ref = ref
     with _registry_lock:
-        _registry[id(ufunc)] = weakref.ref(kern)
-        _memo[key] = weakref.ref(kern)
-    weakref.finalize(kern, _forget, id(ufunc), key)
+        _registry[id(ufunc)] = weakref.ref(group)
+        _memo[key] = weakref.ref(group)
+    weakref.finalize(group, _forget, id(ufunc), key)
     return ufunc
+
+
+def _build_for(sig: Signature, base, name: str) -> Build:
+    """The build of one signature: 64-bit elements at half the natural width unless a width is set."""
+    build = base.resolved()
+    if base.width is None:
+        params, returns = sig.resolved(1, f"kernel '{name}'")
+        kinds = [t for t in list(params) + list(returns if isinstance(returns, tuple) else [returns])
+                 if isinstance(t, VType)]
+        if any(t.kind.bits == 64 for t in kinds):
+            build = build.replace(width=max(4, build.target.natural_width // 2))
+    return build
+
+
+_SIGNATURE = re.compile(r"\s*(\([^()]*\)|\w+)\s*\(([^()]*)\)\s*")
+
+
+def parse_signature(text, body) -> Signature:
+    """A ``Signature`` from numba's form ``"float32(float32, float32)"`` (or ``(a, b)(x)`` for
+    several results), naming kinds as NumPy (float32 ...) or reactor (Float ...) does."""
+    import inspect
+
+    if not isinstance(text, str):
+        raise DSLTypeError(f"a kernel signature is a string such as 'float32(float32)', not {text!r}")
+    m = _SIGNATURE.fullmatch(text)
+    if m is None:
+        raise DSLTypeError(f"kernel signature {text!r} is not of the form 'float32(float32, float32)'")
+    ret, args = m.group(1), m.group(2)
+    rets = [r for r in ret.strip("()").split(",") if r.strip()]
+    params = [value_class(VType(_kind(a, text), 1)) for a in args.split(",") if a.strip()]
+    results = [value_class(VType(_kind(r, text), 1)) for r in rets]
+    names = tuple(inspect.signature(body).parameters)
+    if len(names) != len(params):
+        raise DSLTypeError(f"kernel signature {text!r} has {len(params)} input(s), but the body takes "
+                           f"{len(names)}")
+    return Signature(names, tuple(params), tuple(results) if ret.startswith("(") else results[0])
+
+
+def _kind(token: str, text: str):
+    token = token.strip()
+    if token in KINDS:
+        return KINDS[token]
+    try:
+        dtype = np.dtype(token)
+    except TypeError:
+        dtype = None
+    for kind in KINDS.values():
+        if kind.dtype == dtype:
+            return kind
+    names = ", ".join(sorted({str(k.dtype) for k in KINDS.values()} | set(KINDS)))
+    raise DSLTypeError(f"kernel signature {text!r}: unknown type {token!r} (one of {names})")
+
+
+class Kernels:
+    """The kernels of one ufunc, one per signature (what the ufunc owns)."""
+
+    def __init__(self, kernels):
+        self.kernels = kernels
+        self.ufunc_ref = None
 
 
 class _UfuncRef:
@@ -132,18 +223,31 @@ def _forget(ufunc_id, key):
             del _memo[key]
 
 
-def kernel(body=None, **kwargs):
-    """Decorator: ``@kernel`` or ``@kernel(width=8, fma=False, name=...)``; returns a numpy.ufunc."""
+def kernel(body=None, signatures=None, **kwargs):
+    """Decorator: ``@kernel``, ``@kernel(width=8, fma=False, name=...)`` or
+    ``@kernel(["float32(float32)", "float64(float64)"])``; returns a numpy.ufunc."""
+    if isinstance(body, (list, tuple, str)):
+        body, signatures = None, body
+    if isinstance(signatures, str):
+        signatures = [signatures]
     if body is None:
-        return lambda b: build_kernel(b, **kwargs)
-    return build_kernel(body, **kwargs)
+        return lambda b: build_kernel(b, signatures=signatures, **kwargs)
+    return build_kernel(body, signatures=signatures, **kwargs)
 
 
-def kernel_of(ufunc) -> Kernel:
-    """The ``Kernel`` behind a ufunc made by reactor (for its IR and assembly)."""
+def kernel_of(ufunc, types=None) -> Kernel:
+    """The ``Kernel`` behind a ufunc made by reactor (for its IR and assembly): its first loop,
+    or the loop for ``types`` (as in ``ufunc.types``, e.g. ``"dd->d"``, or input dtypes)."""
     with _registry_lock:
         ref = _registry.get(id(ufunc))
-    kern = ref() if ref is not None else None
-    if kern is None or kern.ufunc_ref._id != id(ufunc):
+    group = ref() if ref is not None else None
+    if group is None or group.ufunc_ref._id != id(ufunc):
         raise ReactorError(f"{ufunc!r} is not a reactor kernel")
-    return kern
+    if types is None:
+        return group.kernels[0]
+    for k in group.kernels:
+        if types in (k.types, k.types.split("->")[0]) or (
+                isinstance(types, (tuple, list)) and tuple(np.dtype(t) for t in types) ==
+                tuple(kind.dtype for kind in k.in_kinds)):
+            return k
+    raise ReactorError(f"{ufunc.__name__} has no loop for {types!r}; it has {', '.join(ufunc.types)}")

@@ -62,7 +62,7 @@ def test_compiled_code_is_freed_with_its_routine():
         del f, u
         gc.collect()
         assert code() is None and kern() is None and kcode() is None
-        assert not any(ref() is not None and ref().name == f"freed_kernel{i}"
+        assert not any(ref() is not None and ref().kernels[0].name == f"freed_kernel{i}"
                        for ref in kernel_module._registry.values())
 
     cycle(0)
