@@ -21,7 +21,7 @@ tolerance, so 1 is the highp limit). Lower-left is better. On every panel:
   tolerance) are drawn hollow with a red cross.
 
 Uses matplotlib's Agg backend (no display needed); writes PNG and SVG.
-matplotlib is optional (``pip install "reactor[plot]"``) and imported only
+matplotlib is optional (``pip install "reactor-simd[plot]"``) and imported only
 inside :func:`draw`: the frontier functions and :func:`missing_matplotlib`
 work without it.
 """
@@ -32,7 +32,7 @@ import os
 from typing import Sequence
 
 FLOOR = 1e-3  # smallest error drawn on a log axis (an exact result has error 0)
-INSTALL = 'pip install "reactor[plot]"'  # how to get matplotlib, for the chart
+INSTALL = 'pip install "reactor-simd[plot]"'  # how to get matplotlib, for the chart
 
 
 def missing_matplotlib() -> str | None:

@@ -206,8 +206,8 @@ def test_report_command_without_matplotlib(tmp_path, monkeypatch, capsys):
     assert len(data["variants"]) == 2 * 2 * 3 and data["chart"] == [] and data["targets"]
     assert "exp2" in out and "Targets" in out
     hint = [line for line in err.splitlines() if "matplotlib" in line]
-    assert len(hint) == 1 and 'pip install "reactor[plot]"' in hint[0]
+    assert len(hint) == 1 and 'pip install "reactor-simd[plot]"' in hint[0]
     assert not list(tmp_path.glob("chart*"))
     assert chart_cli.main(["--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert out.count("\n") == 1 and 'pip install "reactor[plot]"' in out
+    assert out.count("\n") == 1 and 'pip install "reactor-simd[plot]"' in out
