@@ -6,6 +6,8 @@ operation table) -> ``dsl`` (values, intrinsics, control flow, function
 definitions) -> ``jit`` (LLVM optimization, caches) -> ``runtime`` (compiled
 functions called from Python) and ``kernels`` (compiled loops as NumPy ufuncs).
 """
+import typing as _typing
+
 from .build import Build, BuildOptions, Precision, options
 from .dsl.control import Elif, Else, For, If, Return, While
 from .dsl.external import External
@@ -29,6 +31,12 @@ from .runtime.function import Function, Library, Module, Routine, function
 from .targets import TARGETS, Target, get_target
 
 # Value types: Float, Float4, Float8, Float16, Int, Int4, ..., Bool16 (masks).
+if _typing.TYPE_CHECKING:  # the names the loop below makes; a type checker sees each as Value
+    Float: _typing.TypeAlias = Value; Float4: _typing.TypeAlias = Value; Float8: _typing.TypeAlias = Value; Float16: _typing.TypeAlias = Value  # noqa: E702
+    Double: _typing.TypeAlias = Value; Double4: _typing.TypeAlias = Value; Double8: _typing.TypeAlias = Value; Double16: _typing.TypeAlias = Value  # noqa: E702
+    Int: _typing.TypeAlias = Value; Int4: _typing.TypeAlias = Value; Int8: _typing.TypeAlias = Value; Int16: _typing.TypeAlias = Value  # noqa: E702
+    UInt: _typing.TypeAlias = Value; UInt4: _typing.TypeAlias = Value; UInt8: _typing.TypeAlias = Value; UInt16: _typing.TypeAlias = Value  # noqa: E702
+    Bool: _typing.TypeAlias = Value; Bool4: _typing.TypeAlias = Value; Bool8: _typing.TypeAlias = Value; Bool16: _typing.TypeAlias = Value  # noqa: E702
 for _kind in KINDS:
     for _w in WIDTHS:
         _cls = vector_type(_kind, _w)
@@ -36,3 +44,25 @@ for _kind in KINDS:
 del _kind, _w, _cls
 
 __version__ = "0.1.0"
+
+__all__ = [
+    # build settings and targets
+    "Build", "BuildOptions", "Precision", "options", "build_settings", "fma_mode", "precision", "target_features",
+    "Target", "TARGETS", "get_target", "WIDTHS", "KINDS",
+    # values, types, variables, pointers
+    "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable",
+    *(f"{kind}{'' if w == 1 else w}" for kind in ("Float", "Double", "Int", "UInt", "Bool") for w in WIDTHS),
+    # control flow
+    "If", "Elif", "Else", "While", "For", "Return",
+    # intrinsics
+    "Abs", "All", "Any", "As", "Ceil", "CopySign", "Exponent", "Extract", "Floor", "Fma", "Fract", "Insert",
+    "IsFinite", "IsInf", "IsNan", "LaneIndex", "LRint", "Max", "MaxNum", "Min", "MinNum", "MulAdd", "RcpApprox",
+    "ReduceNearest", "Round", "RsqrtApprox", "ScaleF", "Select", "Significand", "ShiftRightArithmetic",
+    "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
+    # functions, kernels, threads
+    "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of",
+    "configure_threads", "thread_settings",
+    # errors
+    "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "MissingReturnError",
+    "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",
+]

@@ -16,6 +16,7 @@ import contextlib
 import dataclasses
 import enum
 import threading
+import typing
 
 from .errors import ReactorError
 from .ir.types import WIDTHS
@@ -65,7 +66,7 @@ class BuildOptions:
     cache: bool | None = None
     precision: str | None = None
 
-    def merged(self, **overrides) -> "BuildOptions":
+    def merged(self, **overrides: typing.Any) -> "BuildOptions":
         given = {k: v for k, v in overrides.items() if v is not None}
         unknown = set(given) - {f.name for f in dataclasses.fields(self)}
         if unknown:
@@ -98,7 +99,7 @@ class Build:
     cache: bool
     precision: Precision
 
-    def replace(self, **changes) -> "Build":
+    def replace(self, **changes: typing.Any) -> "Build":
         if "precision" in changes:
             changes["precision"] = Precision.of(changes["precision"])
         return dataclasses.replace(self, **changes)
@@ -123,7 +124,7 @@ def current_options() -> BuildOptions:
 
 
 @contextlib.contextmanager
-def options(**overrides):
+def options(**overrides: typing.Any) -> typing.Iterator[BuildOptions]:
     """Context manager that sets default build options on this thread."""
     if "precision" in overrides and overrides["precision"] is not None:
         overrides["precision"] = Precision.of(overrides["precision"]).value

@@ -1,16 +1,180 @@
 """Command-line pieces shared by ``python -m reactor`` and the command lines of libraries
-built on reactor (``python -m routines dump``): loading a user's object, printing its
-code, and the options that choose a build."""
+built on reactor (``python -m routines``, ``python -m fuzz``): loading a user's object,
+printing its code, the options that choose a build, and what makes a command line behave:
+
+* :class:`ArgumentParser`: argparse with one-line errors (``prog: error: ...``, exit 2)
+  and an ``examples:`` epilog in ``--help``;
+* argument types that reject bad numbers in argparse (:func:`int_type`,
+  :data:`positive_int`, :data:`non_negative_int`, :data:`power_of_two`);
+* :func:`run`, the wrapper around a command's ``main``: a mistake of the user's
+  (:class:`ReactorError`, :class:`CommandError`, a file that cannot be opened) is one line
+  ``error: ...`` and exit status 2; Ctrl-C is one line ``interrupted`` and status 130; a
+  closed pipe (``... | head``) ends the command quietly with status 141.
+"""
 from __future__ import annotations
 
+import argparse
 import importlib
 import importlib.util
 import os
+import signal
+import sys
+import sysconfig
 
 from .errors import ReactorError
 from .ir.types import WIDTHS
 from .targets import TARGETS
 
+# -- argument parsing -------------------------------------------------------------------
+
+
+class CommandError(Exception):
+    """A mistake on the command line found after parsing: :func:`run` prints
+    ``error: <message>`` and exits with status 2."""
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """``argparse.ArgumentParser`` whose errors are one line (``prog: error: message``,
+    exit status 2, no usage dump) and whose ``--help`` ends with ``examples``, each an
+    invocation printed verbatim (the description is printed verbatim too)."""
+
+    def __init__(self, *args, examples=(), **kwargs):
+        kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
+        if examples:
+            lines = ["examples:"] + [f"  {e}" for e in examples]
+            kwargs["epilog"] = "\n".join(lines) + (f"\n\n{kwargs['epilog']}" if kwargs.get("epilog") else "")
+        super().__init__(*args, **kwargs)
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def int_type(minimum: int | None = None, maximum: int | None = None, *, power_of_two: bool = False):
+    """An argparse ``type=`` for integers in ``[minimum, maximum]`` (and powers of two
+    with ``power_of_two``); a bad value is argparse's one-line error, e.g.
+    ``argument --samples: must be a positive integer, not -5``."""
+    if power_of_two:
+        want = "a power of two"
+    elif minimum == 1 and maximum is None:
+        want = "a positive integer"
+    elif minimum == 0 and maximum is None:
+        want = "a non-negative integer"
+    elif minimum is not None and maximum is not None:
+        want = f"an integer from {minimum} to {maximum}"
+    elif minimum is not None:
+        want = f"an integer >= {minimum}"
+    elif maximum is not None:
+        want = f"an integer <= {maximum}"
+    else:
+        want = "an integer"
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"invalid int value: {text!r}") from None
+        if ((minimum is not None and value < minimum) or (maximum is not None and value > maximum)
+                or (power_of_two and (value < 1 or value & (value - 1)))):
+            raise argparse.ArgumentTypeError(f"must be {want}, not {text.strip()}")
+        return value
+
+    parse.__name__ = parse.__qualname__ = want.replace(" ", "_")
+    return parse
+
+
+positive_int = int_type(1)
+non_negative_int = int_type(0)
+power_of_two = int_type(1, power_of_two=True)
+
+
+# -- running a command ------------------------------------------------------------------
+
+_running = 0  # how many run() calls are active (forked children ignore Ctrl-C meanwhile)
+_hooked = False
+
+
+def run(main, argv: list[str] | None = None) -> int:
+    """Call ``main(argv)`` (default ``sys.argv[1:]``) and return its exit status, turning
+    what a user causes into one line on stderr instead of a traceback:
+
+    * :class:`ReactorError`, :class:`CommandError`, an ``OSError`` about a file
+      (missing, unreadable): ``error: <message>``, status 2;
+    * ``KeyboardInterrupt``: ``interrupted``, status 130 (processes forked meanwhile,
+      such as multiprocessing workers, ignore Ctrl-C: the parent stops them);
+    * ``BrokenPipeError`` on stdout (``... | head``): nothing, status 141 (Python's
+      recipe: stdout is pointed at /dev/null so the exit flush cannot fail again).
+
+    argparse's own errors (``SystemExit(2)``) pass through."""
+    global _running
+    _ignore_ctrl_c_in_forked_children()
+    _running += 1
+    try:
+        status = main(sys.argv[1:] if argv is None else list(argv))
+        sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+        return 0 if status is None else int(status)
+    except KeyboardInterrupt:
+        _say("interrupted")
+        return 130
+    except BrokenPipeError:
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (OSError, ValueError):  # pragma: no cover - stdout without a descriptor
+            pass
+        return 141
+    except (ReactorError, CommandError) as exc:
+        _say(f"error: {describe(exc)}")
+        return 2
+    except OSError as exc:
+        if exc.filename is None:
+            raise
+        _say(f"error: {exc.strerror or exc}: {exc.filename}")
+        return 2
+    finally:
+        _running -= 1
+
+
+def describe(exc: BaseException) -> str:
+    """The one-line message of an error; a :class:`ReactorError`'s ``(at FILE:LINE)`` only
+    when it names a file of the user's (not ``<frozen runpy>``, ``<string>``, the stdlib)."""
+    if isinstance(exc, ReactorError) and exc.location and not _users_file(str(exc.location[0])):
+        return exc.problem
+    return str(exc)
+
+
+def _users_file(name: str) -> bool:
+    if name.startswith("<") or not os.path.isfile(name):
+        return False
+    stdlib = os.path.abspath(sysconfig.get_paths()["stdlib"]) + os.sep
+    return not os.path.abspath(name).startswith(stdlib)
+
+
+def _say(line: str) -> None:
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except (OSError, ValueError):  # pragma: no cover - stderr closed too
+        pass
+
+
+def _ignore_ctrl_c_in_forked_children() -> None:
+    """Ctrl-C reaches the whole process group: forked workers would each print a
+    KeyboardInterrupt traceback. Children forked while a command runs ignore it; the
+    parent's interrupt terminates them (multiprocessing pools do so on exit)."""
+    global _hooked
+    if not _hooked and hasattr(os, "register_at_fork"):
+        os.register_at_fork(after_in_child=_child_after_fork)
+        _hooked = True
+
+
+def _child_after_fork() -> None:
+    if _running:
+        try:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+        except (ValueError, OSError):  # pragma: no cover - not the main thread
+            pass
+
+
+# -- dump -------------------------------------------------------------------------------
 
 def load(spec: str):
     """The object ``NAME`` of ``FILE.py:NAME`` or ``package.module:NAME``."""
@@ -24,7 +188,12 @@ def load(spec: str):
         module = importlib.util.module_from_spec(mod_spec)
         mod_spec.loader.exec_module(module)
     else:
-        module = importlib.import_module(where)
+        try:
+            module = importlib.import_module(where)
+        except ModuleNotFoundError as exc:
+            if exc.name is None or not (where == exc.name or where.startswith(exc.name + ".")):
+                raise  # the module exists but imports something missing: its own traceback
+            raise ReactorError(f"no module named {where!r}") from None
     try:
         return getattr(module, name)
     except AttributeError:
@@ -49,11 +218,12 @@ def text(obj, what: str) -> str:
 
 def add_build_arguments(parser) -> None:
     """The options of ``dump`` that choose the build (shared with ``python -m routines dump``)."""
-    parser.add_argument("--what", choices=("ir", "opt", "asm"), default="asm")
-    parser.add_argument("--fma", choices=("on", "off"))
-    parser.add_argument("--width", type=int, choices=WIDTHS)
-    parser.add_argument("--target", dest="cpu", choices=TARGETS, help="code-generation target")
-    parser.add_argument("--opt", type=int, choices=(0, 1, 2, 3))
+    parser.add_argument("--what", choices=("ir", "opt", "asm"), default="asm",
+                        help="IR, optimized IR or assembly (default asm)")
+    parser.add_argument("--fma", choices=("on", "off"), help="fused multiply-add (default: the target's)")
+    parser.add_argument("--width", type=int, choices=WIDTHS, help="SIMD lanes (default: the target's natural width)")
+    parser.add_argument("--target", dest="cpu", choices=TARGETS, help="code-generation target (default host)")
+    parser.add_argument("--opt", type=int, choices=(0, 1, 2, 3), help="LLVM optimization level (default 3)")
 
 
 def build_options(args) -> dict:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+import types
 
 _LIBRARY_DIRS = [os.path.dirname(os.path.abspath(__file__)) + os.sep]
 
@@ -24,7 +25,7 @@ def hide_frames_of(package_dir: str) -> None:
 
 def user_location() -> tuple[str, int] | None:
     """Return ``(filename, lineno)`` of the innermost frame outside the library."""
-    frame = sys._getframe(1)
+    frame: types.FrameType | None = sys._getframe(1)
     dirs = tuple(_LIBRARY_DIRS)
     while frame is not None:
         filename = os.path.abspath(frame.f_code.co_filename)

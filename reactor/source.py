@@ -18,7 +18,7 @@ RUNTIME_BLOCKS = frozenset({"If", "Elif", "Else", "For", "While"})
 
 
 @functools.lru_cache(maxsize=1024)
-def body_tree(code) -> tuple[ast.FunctionDef, int] | None:
+def body_tree(code) -> tuple[ast.FunctionDef | ast.AsyncFunctionDef, int] | None:
     """(the ``def`` node, the file line of its first source line) of a code object, or None."""
     if code is None:
         return None

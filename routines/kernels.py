@@ -43,15 +43,12 @@ def _build(name, precision, fma, width, target, tag_width):
     doc = (f"{name}, {precision.value} precision, FMA {'on' if fma else 'off'}, {width} lane{'s' * (width > 1)}, "
            f"target {target} ({where.cpu}). float32 only: NumPy refuses a float64 array under its default "
            f"casting; compute one in float32 with dtype=np.float32, casting='same_kind'.")
-    if name in BINARY:
-        builder = BINARY[name]
+    def binary(x: Float, y: Float) -> Float:
+        return BINARY[name](x, y, precision=precision)
 
-        def body(x: Float, y: Float) -> Float:
-            return builder(x, y, precision=precision)
-    else:
-        builder = UNARY[name]
+    def unary(x: Float) -> Float:
+        return UNARY[name](x, precision=precision)
 
-        def body(x: Float) -> Float:
-            return builder(x, precision=precision)
+    body = binary if name in BINARY else unary
     body.__doc__ = doc
     return kernel(body, name=tag, fma=fma, width=width, target=target, precision=precision.value)

@@ -20,13 +20,16 @@ emitted code. ``Return(v)`` returns from the function being built.
 """
 from __future__ import annotations
 
+import typing
+from typing import Callable
+
 from ..errors import ControlFlowError, DSLTypeError, ScopeError, user_location
 from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import KINDS, VType
 from ..source import returns_in_blocks
-from .values import Value, common_type, to_ir, value_class
+from .values import Operand, Value, common_type, to_ir, value_class
 from .variables import Variable
 
 
@@ -73,11 +76,11 @@ class If(_Block):
 
     what = "If"
 
-    def __init__(self, cond):
+    def __init__(self, cond: Value) -> None:
         self._cond = cond
         self._register()
 
-    def __enter__(self):
+    def __enter__(self) -> None:
         em = _em.current()
         cond = _condition(self._cond, self.what)
         then_block, else_block = em.new_block("if.then"), em.new_block("if.else")
@@ -90,7 +93,7 @@ class If(_Block):
         em.goto(then_block)
         self._open(em)
 
-    def __exit__(self, exc_type, *rest):
+    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
         if exc_type is not None:
             return False
         self._close()
@@ -118,7 +121,7 @@ class Elif(If):
 
     what = "Elif"
 
-    def __enter__(self):
+    def __enter__(self) -> None:
         em, prev_else, merge = _claim_chain("Elif")
         em.reopen(prev_else)  # drop its branch to the merge block
         cond = _condition(self._cond, self.what)
@@ -133,17 +136,17 @@ class Else(_Block):
 
     what = "Else"
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._register()
 
-    def __enter__(self):
+    def __enter__(self) -> None:
         em, else_block, merge = _claim_chain("Else")
         em.reopen(else_block)
         self._merge = merge
         self._open(em)
         self._scope.chain = merge
 
-    def __exit__(self, exc_type, *rest):
+    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
         if exc_type is not None:
             return False
         self._close()
@@ -161,7 +164,7 @@ class While(_Block):
 
     what = "While"
 
-    def __init__(self, cond):
+    def __init__(self, cond: Callable[[], Value] | Value) -> None:
         if isinstance(cond, Value) and not hasattr(cond, "_name"):
             raise DSLTypeError("While needs a condition that is re-evaluated every iteration: "
                                "pass a lambda, e.g. While(lambda: i < n), or a Bool Variable")
@@ -171,7 +174,7 @@ class While(_Block):
     def _test(self):
         return self._cond() if callable(self._cond) else self._cond
 
-    def __enter__(self):
+    def __enter__(self) -> None:
         em = _em.current()
         self._head, body, self._exit = em.new_block("while.cond"), em.new_block("while.body"), em.new_block("while.end")
         em.branch_to(self._head)
@@ -180,7 +183,7 @@ class While(_Block):
         em.goto(body)
         self._open(em)
 
-    def __exit__(self, exc_type, *rest):
+    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
         if exc_type is not None:
             return False
         self._close()
@@ -197,7 +200,7 @@ class For(_Block):
 
     what = "For"
 
-    def __init__(self, start, stop=None, step: int = 1):
+    def __init__(self, start: int | Value, stop: int | Value | None = None, step: int = 1) -> None:
         if stop is None:
             start, stop = 0, start
         if not isinstance(step, int) or isinstance(step, bool) or step == 0:
@@ -205,13 +208,13 @@ class For(_Block):
         self._start, self._stop, self._step = start, stop, step
         self._register()
 
-    def __enter__(self):
+    def __enter__(self) -> Value:
         em = _em.current()
         ints = [v for v in (self._start, self._stop) if isinstance(v, Value)]
         vt = common_type(*ints, what="For") if ints else VType(KINDS["Int"], 1)
         if not vt.kind.is_integer or vt.width != 1:
             raise DSLTypeError(f"For bounds must be scalar Int or UInt, not {vt.name}")
-        self._counter = Variable(value_class(vt), self._start, name="i")
+        self._counter: typing.Any = Variable(value_class(vt), self._start, name="i")
         stop = to_ir(self._stop, vt)
         self._head, body = em.new_block("for.cond"), em.new_block("for.body")
         self._latch, self._exit = em.new_block("for.next"), em.new_block("for.end")
@@ -226,7 +229,7 @@ class For(_Block):
         self._counter._scope = self._scope
         return self._counter
 
-    def __exit__(self, exc_type, *rest):
+    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
         if exc_type is not None:
             return False
         em = self._em
@@ -250,7 +253,7 @@ class For(_Block):
         return False
 
 
-def Return(value=None):
+def Return(value: Operand | None = None) -> None:
     """Return ``value`` (or nothing) from the function being built."""
     em = _em.current()
     fn = em.dsl_function

@@ -13,26 +13,27 @@ NaN behaviour:
 from __future__ import annotations
 
 import contextlib
+from typing import Callable, Iterator
 
-from ..build import Precision, current_options, options
+from ..build import Build, Precision, current_options, options
 from ..errors import DSLTypeError, FmaDisabledError, WidthMismatchError
 from ..ir import emitter as _em
 from ..ir import ops, x86
 from ..ir import types as T
 from ..ir.types import KINDS, VType
-from .values import Value, binary, common_type, to_ir, unary, value_class, vector_type
+from .values import Operand, Value, binary, common_type, to_ir, unary, value_class, vector_type
 
 
-def _binary_fn(op: str, doc: str):
-    def fn(a, b):
+def _binary_fn(op: str, doc: str) -> Callable[[Operand, Operand], Value]:
+    def fn(a: Operand, b: Operand) -> Value:
         return binary(op, a, b, what=fn.__name__)
 
     fn.__doc__ = doc
     return fn
 
 
-def _unary_fn(op: str, doc: str):
-    def fn(x):
+def _unary_fn(op: str, doc: str) -> Callable[[Operand], Value]:
+    def fn(x: Operand) -> Value:
         return unary(op, x, what=fn.__name__)
 
     fn.__doc__ = doc
@@ -59,8 +60,8 @@ for _f, _n in [(Min, "Min"), (Max, "Max"), (MinNum, "MinNum"), (MaxNum, "MaxNum"
     _f.__name__ = _f.__qualname__ = _n
 
 
-def _classify(name: str):
-    def fn(x):
+def _classify(name: str) -> Callable[[Value], Value]:
+    def fn(x: Value) -> Value:
         vt = common_type(x, what=name)
         if not vt.kind.is_float:
             raise DSLTypeError(f"{name} is defined for Float and Double, not {vt.name}")
@@ -75,7 +76,7 @@ def _classify(name: str):
 IsNan, IsInf, IsFinite = _classify("IsNan"), _classify("IsInf"), _classify("IsFinite")
 
 
-def Select(mask, a, b):
+def Select(mask: Value, a: Operand, b: Operand) -> Value:
     """Lane-wise ``mask ? a : b``; a scalar Bool mask selects whole vectors."""
     if not isinstance(mask, Value) or mask.kind.category != "bool":
         raise DSLTypeError(f"Select needs a Bool mask as first argument, not {mask!r}")
@@ -99,7 +100,7 @@ def _fused_args(a, b, c, what):
     return vt, to_ir(a, vt), to_ir(b, vt), to_ir(c, vt)
 
 
-def MulAdd(a, b, c):
+def MulAdd(a: Operand, b: Operand, c: Operand) -> Value:
     """``a * b + c``: fused (one rounding) when the build's FMA option is on,
     otherwise a rounded multiply followed by an add. This is the FMA toggle."""
     vt, x, y, z = _fused_args(a, b, c, "MulAdd")
@@ -107,7 +108,7 @@ def MulAdd(a, b, c):
     return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.settings.fma), em)
 
 
-def Fma(a, b, c):
+def Fma(a: Operand, b: Operand, c: Operand) -> Value:
     """``a * b + c`` with a single rounding; an error in a build with fma=False
     (use ``MulAdd`` for code that should follow the toggle)."""
     vt, x, y, z = _fused_args(a, b, c, "Fma")
@@ -118,7 +119,7 @@ def Fma(a, b, c):
 
 
 @contextlib.contextmanager
-def fma_mode(enabled: bool | None):
+def fma_mode(enabled: bool | None) -> Iterator[None]:
     """Inside the block, ``MulAdd`` fuses iff ``enabled`` (None: keep the build's setting).
     Outside a body being built, it sets the default of the builds made in the block."""
     if enabled is None:
@@ -132,7 +133,7 @@ def fma_mode(enabled: bool | None):
 
 
 @contextlib.contextmanager
-def precision(level):
+def precision(level: Precision | str) -> Iterator[None]:
     """``with reactor.precision("relaxed"):`` like GLSL's ``precision mediump float;``:
     the math built-ins of the block use ``level`` unless a call says otherwise.
     Inside a body it applies to the code of the block; outside, to the builds
@@ -146,7 +147,7 @@ def precision(level):
             yield
 
 
-def build_settings():
+def build_settings() -> Build:
     """The settings (a ``reactor.Build``: target, width, fma, precision, opt) of the code
     being emitted; outside a body, those a build started here would use."""
     if _em.building():
@@ -154,7 +155,7 @@ def build_settings():
     return current_options().resolved()
 
 
-def As(type_, x):
+def As(type_: type[Value], x: Value) -> Value:
     """Reinterpret the bits of ``x`` as ``type_`` (same total size), e.g. ``As(Int4, f)``."""
     if not (isinstance(type_, type) and issubclass(type_, Value) and hasattr(type_, "vtype")):
         raise DSLTypeError(f"As needs a DSL type as first argument, not {type_!r}")
@@ -170,7 +171,7 @@ def As(type_, x):
     return type_._wrap(ops.bitcast(em, src, dst, x.ir), em)
 
 
-def ToInt(x, rounding: str = "trunc", *, saturate: bool = True, unsigned: bool = False):
+def ToInt(x: Value, rounding: str = "trunc", *, saturate: bool = True, unsigned: bool = False) -> Value:
     """Convert floats to Int (or UInt): ``rounding`` "trunc" or "nearest" (ties to even).
 
     With ``saturate`` (default) out-of-range inputs clamp and NaN gives 0. With
@@ -195,7 +196,7 @@ def _lane_index(v: Value, i):
     return i
 
 
-def Extract(v: Value, i):
+def Extract(v: Value, i: int | Value) -> Value:
     """Lane ``i`` of vector ``v`` as a scalar (``i`` an int, or a scalar Int taken modulo the width)."""
     if not isinstance(v, Value) or v.width == 1:
         raise DSLTypeError(f"Extract needs a vector value, not {v!r}")
@@ -203,7 +204,7 @@ def Extract(v: Value, i):
     return value_class(v.vtype.with_width(1))._wrap(em.extract(v.ir, _lane_index(v, i)), em)
 
 
-def Insert(v: Value, x, i):
+def Insert(v: Value, x: Operand, i: int | Value) -> Value:
     """A copy of vector ``v`` with lane ``i`` replaced by scalar ``x``."""
     if not isinstance(v, Value) or v.width == 1:
         raise DSLTypeError(f"Insert needs a vector value, not {v!r}")
@@ -212,8 +213,8 @@ def Insert(v: Value, x, i):
     return value_class(v.vtype)._wrap(em.insert(v.ir, scalar, _lane_index(v, i)), em)
 
 
-def _reduce(name: str):
-    def fn(mask):
+def _reduce(name: str) -> Callable[[Value], Value]:
+    def fn(mask: Value) -> Value:
         if not isinstance(mask, Value) or mask.kind.category != "bool":
             raise DSLTypeError(f"{name} needs a Bool mask, not {mask!r}")
         if mask.width == 1:
@@ -231,7 +232,7 @@ Any = _reduce("Any")
 All = _reduce("All")
 
 
-def LaneIndex(width: int | None = None):
+def LaneIndex(width: int | None = None) -> Value:
     """``Int<width>(0, 1, ..., width-1)``; the build's SIMD width by default."""
     em = _em.current()
     vt = VType(KINDS["Int"], width or em.width)
@@ -257,7 +258,7 @@ def _native(name: str, x, natives):
     return value_class(x.vtype)._wrap(x86.by_native_width(em, x.vtype, x.ir, natives), em).named(name)
 
 
-def RcpApprox(x):
+def RcpApprox(x: Value) -> Value:
     """Hardware estimate of 1/x: RCP14 (relative error < 2^-14) with AVX-512,
     RCPPS (< 1.5 * 2^-12) otherwise. 1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN.
     RCP14 handles subnormal inputs and results; RCPPS treats subnormal inputs
@@ -267,7 +268,7 @@ def RcpApprox(x):
     return value_class(x.vtype)._wrap(x86.estimate(em, "rcp", x.vtype, x.ir, _features()), em)
 
 
-def RsqrtApprox(x):
+def RsqrtApprox(x: Value) -> Value:
     """Hardware estimate of 1/sqrt(x): RSQRT14 (< 2^-14) with AVX-512, RSQRTPS
     (< 1.5 * 2^-12) otherwise. ±0 -> ±inf, +inf -> +0, x < 0 -> NaN.
     RSQRTPS treats subnormal inputs as zero (-> inf); RSQRT14 does not."""
@@ -276,7 +277,7 @@ def RsqrtApprox(x):
     return value_class(x.vtype)._wrap(x86.estimate(em, "rsqrt", x.vtype, x.ir, _features()), em)
 
 
-def Fract(x):
+def Fract(x: Value) -> Value:
     """``x - Floor(x)`` in [0, 1) for finite ``x`` (one AVX-512DQ VREDUCEPS).
 
     The difference is rounded toward -inf, as VREDUCEPS does (its rounding
@@ -312,7 +313,7 @@ def _normalized_bits(x):
     return ax, bits, tiny, scaled, Int_, Float_
 
 
-def Exponent(x):
+def Exponent(x: Value) -> Value:
     """floor(log2|x|) as a float, exact for subnormals; ±0 -> -inf, ±inf -> +inf,
     NaN -> NaN (AVX-512 VGETEXPPS; an integer-bit emulation elsewhere)."""
     _require_float("Exponent", x)
@@ -325,7 +326,7 @@ def Exponent(x):
     return Select(bits >= _INF_BITS, ax, e).named("exponent")
 
 
-def Significand(x):
+def Significand(x: Value) -> Value:
     """|x| / 2^Exponent(x), in [1, 2) for finite non-zero x >= 0, exact for
     subnormals; +0 -> 1, -0 -> -1, +inf -> 1, x < 0 (and -inf) -> NaN,
     NaN -> NaN (AVX-512 VGETMANTPS with sign control "NaN if negative")."""
@@ -347,7 +348,7 @@ def _quiet(x):
     return As(Float_, As(Int_, x) | 0x00400000)
 
 
-def ScaleF(a, b):
+def ScaleF(a: Value, b: Operand) -> Value:
     """``a * 2^floor(b)`` rounded once (AVX-512 VSCALEFPS; elsewhere the same bits
     from an exact product in double precision rounded to float).
 
@@ -379,7 +380,7 @@ def ScaleF(a, b):
     return Select(IsNan(a) | IsNan(b), nan, r).named("scalef")
 
 
-def ReduceNearest(x):
+def ReduceNearest(x: Value) -> Value:
     """``x - round(x)`` (ties to even), exact, in [-1/2, 1/2] (AVX-512DQ VREDUCEPS
     imm 0; the same bits elsewhere): +0 for integers and infinities, NaN for NaN."""
     _require_float("ReduceNearest", x)
@@ -390,7 +391,7 @@ def ReduceNearest(x):
     return Select(IsInf(x), 0.0, r).named("reduce")
 
 
-def LRint(x):
+def LRint(x: Value) -> Value:
     """Float -> Int rounded to nearest even in one conversion (VCVTPS2DQ), for inputs
     known to be in Int's range: others give an unspecified (fixed) value, which
     differs between targets. ``ToInt(x, "nearest")`` is the checked, saturating form."""

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+import typing
 
 from ..errors import DSLTypeError
 from ..ir import emitter as _em
@@ -50,13 +51,29 @@ class _SIMD:
 SIMD = _SIMD()
 
 
-class Pointer:
-    """``Pointer[Float]``, ``Pointer[Float4]``, ``Pointer[Float, 64]`` or
-    ``Pointer[Float, "n"]`` (at least ``n`` elements, ``n`` an Int argument)."""
+if typing.TYPE_CHECKING:
+    from typing_extensions import TypeVar as _TypeVar
 
-    def __class_getitem__(cls, item):
-        pointee, length = (item if isinstance(item, tuple) else (item, None))
-        return _PointerSpec(pointee, length)
+    _Pointee = _TypeVar("_Pointee")
+    _Length = _TypeVar("_Length", default=None)
+
+    class Pointer(typing.Generic[_Pointee, _Length]):
+        """What a type checker sees: ``Pointer[Float]`` or ``Pointer[Float, Literal["n"]]``."""
+
+        def __getitem__(self, index: int | Value) -> Value: ...
+        def __setitem__(self, index: int | Value, value: typing.Any) -> None: ...
+        def load(self, index: int | Value, width: int) -> Value: ...
+        def store(self, index: int | Value, value: Value) -> None: ...
+else:
+    class Pointer:
+        """``Pointer[Float]``, ``Pointer[Float4]``, ``Pointer[Float, 64]`` or
+        ``Pointer[Float, "n"]`` (at least ``n`` elements, ``n`` an Int argument). Under
+        a type checker write the length as ``Literal[64]`` or ``Literal["n"]``."""
+
+        def __class_getitem__(cls, item):
+            pointee, length = (item if isinstance(item, tuple) else (item, None))
+            args = typing.get_args(length) if typing.get_origin(length) is typing.Literal else ()
+            return _PointerSpec(pointee, args[0] if args else length)
 
 
 @dataclasses.dataclass(frozen=True)

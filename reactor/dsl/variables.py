@@ -14,19 +14,23 @@ A ``Pointer`` argument indexes memory in elements of its pointee type.
 from __future__ import annotations
 
 import functools
+import typing
 
 from ..errors import DSLTypeError, ScopeError
 from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import PointerType, VType
-from .values import Value, binary, to_ir, value_class
+from .values import Operand, Value, binary, to_ir, value_class
 
 
 class _VariableMixin:
     """Methods shared by every Variable[T] class (T a value type)."""
 
     __slots__ = ()
+    vtype: VType
+    _name: str
+    _init: typing.Any
 
     def _slot(self):
         slot = Value.ir.fget(self)  # checks function and scope
@@ -45,10 +49,10 @@ class _VariableMixin:
         """An immutable snapshot of the current value."""
         return value_class(self.vtype)._wrap(self.ir)
 
-    def set(self, value) -> "Variable":
+    def set(self, value: Operand) -> Value:
         """Store ``value`` (converted only if it is a Python constant or a broadcast scalar)."""
         _em.current().store(to_ir(value, self.vtype), self._slot())
-        return self
+        return typing.cast(Value, self)  # a Variable[T] class is both this mixin and a Value
 
     def named(self, name):
         return self
@@ -74,7 +78,7 @@ def _variable_class(vtype: VType):
                 {"__slots__": ("_name", "_init"), "__module__": "reactor"})
 
 
-def Variable(type_or_value, init=None, name: str = "var"):
+def Variable(type_or_value: type[Value] | Value, init: Operand | None = None, name: str = "var") -> Value:
     """A mutable variable: ``Variable(Float4, 0.0)``, ``Variable(Float4)`` (zero)
     or ``Variable(x)`` (type and initial value from the value ``x``)."""
     if isinstance(type_or_value, Value):
@@ -169,6 +173,6 @@ class PointerValue:
         return f"<{self.ptype.name}>"
 
 
-def is_variable(x) -> bool:
+def is_variable(x: object) -> bool:
     """Whether ``x`` is a ``Variable`` (mutable) rather than a plain value."""
     return isinstance(x, _VariableMixin)

@@ -18,8 +18,8 @@ with its own emitter stack, so building is thread-safe.
 from __future__ import annotations
 
 import contextlib
-import itertools
 import threading
+import typing
 
 from llvmlite import ir
 
@@ -76,11 +76,12 @@ class ModuleEmitter:
 
     def unique_name(self, base: str) -> str:
         names = {g.name for g in self.module.global_values}
-        if base not in names:
-            return base
-        for i in itertools.count(1):
-            if f"{base}.{i}" not in names:
-                return f"{base}.{i}"
+        i = 0
+        name = base
+        while name in names:
+            i += 1
+            name = f"{base}.{i}"
+        return name
 
     def declare(self, name: str, ret, args) -> ir.Function:
         """Declare an external or intrinsic function once per module (types: reactor
@@ -165,11 +166,11 @@ class FunctionEmitter:
         self._b = ir.IRBuilder(self._entry)
         self._b.branch(body)
         self._b.position_at_end(body)
-        self.scope = Scope(None, "function")
+        self.scope: Scope = Scope(None, "function")
         self.root_scope = self.scope
         self.ret_type = ret
         self.pending_chain = None  # (else_block, merge_block, mark) after an If/Elif
-        self.dsl_function = None  # what is being built (set by its builder; see dsl/control.Return)
+        self.dsl_function: typing.Any = None  # what is being built (set by its builder; see dsl/control.Return)
         self.unentered: list = []  # blocks (If, For, ...) created but not yet entered with `with`
 
     @property
@@ -421,7 +422,7 @@ class FunctionEmitter:
         merge = getattr(value, "reactor_chain", None)
         if merge is None or value.parent is self._b.block:
             return True
-        scope = self.scope
+        scope: Scope | None = self.scope
         while scope is not None and scope.chain is not merge:
             scope = scope.parent
         return scope is not None
@@ -439,7 +440,7 @@ class FunctionEmitter:
                 f"'{self.scope.what}'{at(self.scope)}, not '{scope.what}'{at(scope)}"
             )
         scope.closed = True
-        self.scope = scope.parent
+        self.scope = scope.parent or self.root_scope
 
     # -- finishing ----------------------------------------------------------
     def finish(self) -> list[ir.Block]:

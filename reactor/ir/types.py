@@ -16,6 +16,7 @@ import functools
 
 import numpy as np
 from llvmlite import ir
+from llvmlite.ir import Type as LLVMType
 
 #: The SIMD widths of the DSL (1 is scalar).
 WIDTHS = (1, 4, 8, 16)
@@ -91,12 +92,12 @@ class VType:
         return self.kind.name if self.width == 1 else f"{self.kind.name}{self.width}"
 
     @functools.cached_property
-    def ir(self) -> ir.Type:
+    def ir(self) -> LLVMType:
         t = self.kind.ir_type
         return t if self.width == 1 else ir.VectorType(t, self.width)
 
     @functools.cached_property
-    def mem_ir(self) -> ir.Type:
+    def mem_ir(self) -> LLVMType:
         t = self.kind.mem_type
         return t if self.width == 1 else ir.VectorType(t, self.width)
 
@@ -126,14 +127,14 @@ def memory(vt: VType) -> VType:
 
 @dataclasses.dataclass(frozen=True)
 class PointerType:
-    """A pointer to elements of ``pointee`` (a value type, or another pointer type).
+    """A pointer to elements of value type ``pointee`` (a DSL pointer argument).
 
     ``length`` is the number of pointee elements a routine may touch: an int,
     the name of an Int/UInt argument of the same function, or None (unchecked
     beyond "at least one element").
     """
 
-    pointee: "VType | PointerType | StructType"
+    pointee: VType
     length: int | str | None = None
 
     @property
@@ -142,18 +143,35 @@ class PointerType:
         return f"Pointer[{self.pointee.name}{extra}]"
 
     @property
-    def ir(self) -> ir.Type:
+    def ir(self) -> LLVMType:
         return self.pointee.mem_ir.as_pointer()
 
-    mem_ir = ir
+    @property
+    def mem_ir(self) -> LLVMType:
+        return self.ir
 
     def __repr__(self) -> str:
         return self.name
 
 
+@dataclasses.dataclass(frozen=True)
+class Address:
+    """A pointer to a pointer or a struct (the plumbing's: ``char **``, ``Settings *``)."""
+
+    pointee: "PointerType | Address | StructType"
+
+    @property
+    def ir(self) -> LLVMType:
+        return self.pointee.ir.as_pointer()
+
+    @property
+    def mem_ir(self) -> LLVMType:
+        return self.ir
+
+
 #: ``char *`` and ``char **``: NumPy's untyped data pointers.
 BYTES = PointerType(BYTE)
-BYTES_ARRAY = PointerType(BYTES)
+BYTES_ARRAY = Address(BYTES)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -163,17 +181,19 @@ class StructType:
     fields: tuple
 
     @property
-    def ir(self) -> ir.Type:
+    def ir(self) -> LLVMType:
         return ir.LiteralStructType([f.ir for f in self.fields])
 
-    mem_ir = ir
+    @property
+    def mem_ir(self) -> LLVMType:
+        return self.ir
 
     @property
     def name(self) -> str:
         return "(" + ", ".join(f.name for f in self.fields) + ")"
 
 
-def ir_type(t) -> ir.Type:
+def ir_type(t) -> LLVMType:
     """The LLVM type of a VType, PointerType or StructType (None: void)."""
     return ir.VoidType() if t is None else t.ir
 

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import ctypes
 import threading
+import typing
 import weakref
 
 import re
@@ -48,13 +49,15 @@ from . import parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
 from .ufunc_api import make_ufunc
 
-_registry: "dict[int, weakref.ref[Kernel]]" = {}
+_registry: "dict[int, weakref.ref[Kernels]]" = {}
 _registry_lock = threading.Lock()
-_memo: "dict[tuple, weakref.ref]" = {}
+_memo: "dict[tuple, weakref.ref[Kernels]]" = {}
 
 
 class Kernel(ShowsCode):
     """A compiled kernel: its ufunc's machine code and how it was made."""
+
+    ufunc_ref: "_UfuncRef"  # set when its ufunc is made
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
         self.name, self.build = name, build
@@ -104,10 +107,10 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
     base = current_options().merged(**options)
     builds = [_build_for(sig, base, name) for sig in sigs]
     key = (body, name, tuple(sigs), tuple(builds))
-    group = _memo.get(key)
-    group = group() if group is not None else None
-    if group is not None and group.ufunc_ref() is not None:
-        return group.ufunc_ref()
+    known = _memo.get(key)
+    cached = known() if known is not None else None
+    if cached is not None and cached.ufunc_ref() is not None:
+        return cached.ufunc_ref()
     kernels = [Kernel(body, name, sig, build) for sig, build in zip(sigs, builds)]
     shapes = {(len(k.in_kinds), len(k.out_kinds)) for k in kernels}
     inputs = [tuple(k.in_kinds) for k in kernels]
@@ -117,7 +120,7 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
     group = Kernels(kernels)
     doc = (body.__doc__ or f"reactor kernel '{name}'").strip() + "\n\nBuilt for " + \
         "; ".join(f"{k.types}: {k.build.describe()}" for k in kernels) + "."
-    group.ufunc_ref = ref = _UfuncRef()
+    ref = group.ufunc_ref
     ufunc = make_ufunc(name, doc, [k._loop for k in kernels], [k._signature[0] for k in kernels],
                        len(kernels[0].in_kinds), len(kernels[0].out_kinds), owner=(group, _UfuncFreed(ref)),
                        data=[ctypes.addressof(k.config) for k in kernels])
@@ -185,9 +188,9 @@ def _kind(token: str, text: str):
 class Kernels:
     """The kernels of one ufunc, one per signature (what the ufunc owns)."""
 
-    def __init__(self, kernels):
+    def __init__(self, kernels: list[Kernel]):
         self.kernels = kernels
-        self.ufunc_ref = None
+        self.ufunc_ref = _UfuncRef()
 
 
 class _UfuncRef:
@@ -223,7 +226,18 @@ def _forget(ufunc_id, key):
             del _memo[key]
 
 
-def kernel(body=None, signatures=None, **kwargs):
+Body = typing.Callable[..., typing.Any]
+Signatures = typing.Union[str, typing.Sequence[str]]
+
+
+@typing.overload
+def kernel(body: Body, signatures: Signatures | None = None, **kwargs: typing.Any) -> np.ufunc: ...
+@typing.overload  # noqa: E302
+def kernel(body: Signatures | None = None, signatures: Signatures | None = None,
+           **kwargs: typing.Any) -> typing.Callable[[Body], np.ufunc]: ...
+
+
+def kernel(body=None, signatures=None, **kwargs):  # noqa: E302
     """Decorator: ``@kernel``, ``@kernel(width=8, fma=False, name=...)`` or
     ``@kernel(["float32(float32)", "float64(float64)"])``; returns a numpy.ufunc."""
     if isinstance(body, (list, tuple, str)):
@@ -235,7 +249,7 @@ def kernel(body=None, signatures=None, **kwargs):
     return build_kernel(body, signatures=signatures, **kwargs)
 
 
-def kernel_of(ufunc, types=None) -> Kernel:
+def kernel_of(ufunc: np.ufunc, types: str | typing.Sequence[typing.Any] | None = None) -> Kernel:
     """The ``Kernel`` behind a ufunc made by reactor (for its IR and assembly): its first loop,
     or the loop for ``types`` (as in ``ufunc.types``, e.g. ``"dd->d"``, or input dtypes)."""
     with _registry_lock:

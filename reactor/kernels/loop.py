@@ -79,7 +79,7 @@ def emit_body(module, name: str, body, in_kinds, out_kinds, width: int):
             irs = [to_ir(r, vt) for r, vt in zip(result, outs)]
         for block in em.finish():
             em.position_at(block)
-            em.ret(irs[0] if len(irs) == 1 else em.pack(ret, irs))
+            em.ret(irs[0] if isinstance(ret, VType) else em.pack(ret, irs))
         em.finish()
     return em.function
 
@@ -247,7 +247,7 @@ def emit_dispatcher(module, name: str, serial) -> object:
     native ``reactor_parallel_for``, every other one straight to ``serial``."""
     em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES)
     settings_t = T.StructType((INDEX, INDEX, INDEX, T.BYTES))
-    config_t = T.StructType((T.PointerType(settings_t), INDEX, INDEX))
+    config_t = T.StructType((T.Address(settings_t), INDEX, INDEX))
     with em:
         args, dims, steps, data = em.params
         cfg = em.cast_pointer(data, config_t, name="config")

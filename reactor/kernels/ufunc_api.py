@@ -66,14 +66,14 @@ def make_ufunc(name: str, doc: str, loops: list[int], signatures: list[list[np.d
         raise ValueError("need one loop per signature")
     ntypes = len(loops)
     funcs = (ctypes.c_void_p * ntypes)(*loops)
-    data = (ctypes.c_void_p * ntypes)(*(data or [None] * ntypes))
-    types = (ctypes.c_char * (ntypes * (nin + nout)))(
-        *[np.dtype(t).num for sig in signatures for t in sig])
+    data_array = (ctypes.c_void_p * ntypes)(*(data or [0] * ntypes))
+    types = ctypes.create_string_buffer(bytes(np.dtype(t).num for sig in signatures for t in sig),
+                                        ntypes * (nin + nout))
     name_b, doc_b = ctypes.create_string_buffer(name.encode()), ctypes.create_string_buffer(doc.encode())
-    ufunc = _from_func_and_data()(ctypes.addressof(funcs), ctypes.addressof(data), ctypes.cast(types, ctypes.c_char_p),
+    ufunc = _from_func_and_data()(ctypes.addressof(funcs), ctypes.addressof(data_array), ctypes.cast(types, ctypes.c_char_p),
                                   ntypes, nin, nout, _IDENTITY_NONE, ctypes.cast(name_b, ctypes.c_char_p),
                                   ctypes.cast(doc_b, ctypes.c_char_p), 0)
-    keep = (owner, funcs, data, types, name_b, doc_b)
+    keep = (owner, funcs, data_array, types, name_b, doc_b)
     slot = ctypes.c_void_p.from_address(id(ufunc) + _obj_offset())
     if slot.value is not None:
         raise RuntimeError("new ufunc unexpectedly has an obj")

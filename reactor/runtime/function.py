@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import ctypes
 import threading
+import typing
 
 import numpy as np
 
@@ -36,7 +37,8 @@ class Function(FunctionDef):
     enclosing ``reactor.options`` context at compile time.
     """
 
-    def __init__(self, body, args=None, returns=..., name: str | None = None, **options):
+    def __init__(self, body: typing.Callable[..., typing.Any], args: typing.Sequence[typing.Any] | None = None,
+                 returns: typing.Any = ..., name: str | None = None, **options: typing.Any) -> None:
         super().__init__(body, args, returns, name, **options)
         self._compiled: dict[tuple, Routine] = {}
         self._lock = threading.Lock()
@@ -45,12 +47,12 @@ class Function(FunctionDef):
         """The resolved settings of a build of this function (context, then its own options, then ``overrides``)."""
         return current_options().merged(**self.option_overrides).merged(**overrides).resolved()
 
-    def __call__(self, *args):
+    def __call__(self, *args: typing.Any) -> typing.Any:
         if _em.building():
             return self.emit_call(args)
         return self.compile()(*args)
 
-    def compile(self, **options) -> "Routine":
+    def compile(self, **options: typing.Any) -> "Routine":
         """The routine for these build options (compiled once, then cached)."""
         build = self.build_settings(**options)
         with self._lock:
@@ -60,7 +62,13 @@ class Function(FunctionDef):
         return routine
 
 
-def function(body=None, **kwargs):
+@typing.overload
+def function(body: typing.Callable[..., typing.Any], **kwargs: typing.Any) -> Function: ...
+@typing.overload  # noqa: E302
+def function(body: None = None, **kwargs: typing.Any) -> typing.Callable[[typing.Callable[..., typing.Any]], Function]: ...
+
+
+def function(body=None, **kwargs):  # noqa: E302
     """Decorator form of ``Function``: ``@function`` or ``@function(fma=False)``."""
     if body is None:
         return lambda b: Function(b, **kwargs)
