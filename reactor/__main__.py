@@ -33,7 +33,7 @@ def _main(argv: list[str]) -> int:
     return 0
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
     """The command line; errors a user causes are one line and exit status 2 (see reactor.cli.run)."""
     return run(_main, argv)
 

@@ -20,6 +20,8 @@ import os
 import signal
 import sys
 import sysconfig
+from collections.abc import Callable, Sequence
+from typing import Any, NoReturn
 
 from .errors import ReactorError
 from .ir.types import WIDTHS
@@ -38,18 +40,19 @@ class ArgumentParser(argparse.ArgumentParser):
     exit status 2, no usage dump) and whose ``--help`` ends with ``examples``, each an
     invocation printed verbatim (the description is printed verbatim too)."""
 
-    def __init__(self, *args, examples=(), **kwargs):
+    def __init__(self, *args: Any, examples: Sequence[str] = (), **kwargs: Any) -> None:
         kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
         if examples:
             lines = ["examples:"] + [f"  {e}" for e in examples]
             kwargs["epilog"] = "\n".join(lines) + (f"\n\n{kwargs['epilog']}" if kwargs.get("epilog") else "")
         super().__init__(*args, **kwargs)
 
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def int_type(minimum: int | None = None, maximum: int | None = None, *, power_of_two: bool = False):
+def int_type(minimum: int | None = None, maximum: int | None = None, *,
+             power_of_two: bool = False) -> Callable[[str], int]:
     """An argparse ``type=`` for integers in ``[minimum, maximum]`` (and powers of two
     with ``power_of_two``); a bad value is argparse's one-line error, e.g.
     ``argument --samples: must be a positive integer, not -5``."""
@@ -93,7 +96,7 @@ _running = 0  # how many run() calls are active (forked children ignore Ctrl-C m
 _hooked = False
 
 
-def run(main, argv: list[str] | None = None) -> int:
+def run(main: Callable[[list[str]], int | None], argv: Sequence[str] | None = None) -> int:
     """Call ``main(argv)`` (default ``sys.argv[1:]``) and return its exit status, turning
     what a user causes into one line on stderr instead of a traceback:
 
@@ -176,15 +179,17 @@ def _child_after_fork() -> None:
 
 # -- dump -------------------------------------------------------------------------------
 
-def load(spec: str):
+def load(spec: str) -> Any:
     """The object ``NAME`` of ``FILE.py:NAME`` or ``package.module:NAME``."""
     if ":" not in spec:
         raise ReactorError(f"dump target must be FILE.py:NAME or module:NAME, not {spec!r}")
     where, name = spec.rsplit(":", 1)
     if where.endswith(".py"):
-        if not os.path.exists(where):
+        if not os.path.isfile(where):
             raise ReactorError(f"no such file: {where}")
         mod_spec = importlib.util.spec_from_file_location("reactor_dump_target", where)
+        if mod_spec is None or mod_spec.loader is None:  # pragma: no cover - a .py file always has one
+            raise ReactorError(f"cannot load {where}")
         module = importlib.util.module_from_spec(mod_spec)
         mod_spec.loader.exec_module(module)
     else:
@@ -200,13 +205,14 @@ def load(spec: str):
         raise ReactorError(f"{where} has no attribute {name!r}") from None
 
 
-def text(obj, what: str) -> str:
+def text(obj: Any, what: str) -> str:
     """The IR ("ir"), optimized IR ("opt") or assembly ("asm") of a Function or kernel ufunc."""
     import numpy as np
 
     from .kernels.kernel import kernel_of
     from .runtime.function import Function
 
+    item: Any  # a compiled Routine or a Kernel: both show their code
     if isinstance(obj, Function):
         item = obj.compile()
     elif isinstance(obj, np.ufunc):
@@ -216,16 +222,17 @@ def text(obj, what: str) -> str:
     return {"ir": item.ir, "opt": item.optimized_ir, "asm": item.assembly}[what]
 
 
-def add_build_arguments(parser) -> None:
+def add_build_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``dump`` that choose the build (shared with ``python -m routines dump``)."""
     parser.add_argument("--what", choices=("ir", "opt", "asm"), default="asm",
                         help="IR, optimized IR or assembly (default asm)")
     parser.add_argument("--fma", choices=("on", "off"), help="fused multiply-add (default: the target's)")
-    parser.add_argument("--width", type=int, choices=WIDTHS, help="SIMD lanes (default: the target's natural width)")
+    parser.add_argument("--width", type=int, choices=WIDTHS,
+                        help="SIMD lanes (default: the target's natural width)")
     parser.add_argument("--target", dest="cpu", choices=TARGETS, help="code-generation target (default host)")
     parser.add_argument("--opt", type=int, choices=(0, 1, 2, 3), help="LLVM optimization level (default 3)")
 
 
-def build_options(args) -> dict:
+def build_options(args: argparse.Namespace) -> dict[str, Any]:
     return {"fma": None if args.fma is None else args.fma == "on", "width": args.width,
             "target": args.cpu, "opt": args.opt}

@@ -23,14 +23,20 @@ def hide_frames_of(package_dir: str) -> None:
         _LIBRARY_DIRS.append(path)
 
 
+def library_dirs() -> tuple[str, ...]:
+    """reactor's folder and those registered with ``hide_frames_of``."""
+    return tuple(_LIBRARY_DIRS)
+
+
 def user_location() -> tuple[str, int] | None:
     """Return ``(filename, lineno)`` of the innermost frame outside the library."""
     frame: types.FrameType | None = sys._getframe(1)
     dirs = tuple(_LIBRARY_DIRS)
     while frame is not None:
-        filename = os.path.abspath(frame.f_code.co_filename)
-        if not filename.startswith(dirs) and "importlib" not in filename and not filename.startswith("<frozen"):
-            return frame.f_code.co_filename, frame.f_lineno
+        name = frame.f_code.co_filename
+        filename = os.path.abspath(name)
+        if not filename.startswith(dirs) and "importlib" not in filename and not name.startswith("<frozen"):
+            return name, frame.f_lineno
         frame = frame.f_back
     return None
 

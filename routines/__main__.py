@@ -5,9 +5,13 @@ tables of docs/specials.md), accuracy (measure a variant's error on the
 compiled code), bench (time every variant against NumPy), zoo (the reference's
 methods, its figures beside ours), chart (the cost/error chart), report (the
 main job: every variant's accuracy and speed, the table, chart and JSON),
-docs (write docs/routines/*.md from the measurements), fingerprint (a hash of
-every variant's output bits, to prove a change left them alone), dump (the IR or
-assembly of a routine's kernel).
+docs (write docs/routines/*.md from the measurements), search (the variant
+search: the Pareto set of cost vs error), fingerprint (a hash of every
+variant's output bits, to prove a change left them alone), dump (the IR or
+assembly of a routine's kernel). ``python -m routines COMMAND --help`` tells more.
+
+Exit status: 0 done, 1 a finding (a variant does not conform, fingerprints
+differ), 2 a usage error, 130 interrupted.
 """
 from __future__ import annotations
 
@@ -26,15 +30,31 @@ COMMANDS = {
     "fingerprint": "routines.lab.fingerprint",
     "dump": "routines.cli.dump",
 }
+USAGE = "usage: python -m routines {" + ",".join(COMMANDS) + "} [options]"
+EXAMPLES = """examples:
+  python -m routines report --quick
+  python -m routines accuracy exp2 --precision relaxed --fma off
+  python -m routines dump exp2 --what ir"""
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    if not argv or argv[0] in ("-h", "--help") or argv[0] not in COMMANDS:
-        print(__doc__.strip(), file=sys.stderr if argv and argv[0] not in ("-h", "--help") else sys.stdout)
-        print("\nusage: python -m routines {" + ",".join(COMMANDS) + "} [options]")
-        return 0 if argv and argv[0] in ("-h", "--help") else 2
+    """Run ``python -m routines COMMAND ...`` through :func:`routines.cli.run`."""
+    from .cli import run
+
+    return run(_dispatch, argv)
+
+
+def _dispatch(argv: list[str]) -> int:
+    if argv and argv[0] in ("-h", "--help"):
+        print(f"{USAGE}\n\n{__doc__.strip()}\n\n{EXAMPLES}")
+        return 0
+    if not argv or argv[0] not in COMMANDS:
+        what = f"unknown command {argv[0]!r}" if argv else "a command is required"
+        print(f"python -m routines: error: {what} (choose from {', '.join(COMMANDS)}; --help tells more)",
+              file=sys.stderr)
+        return 2
     import importlib
+
     return importlib.import_module(COMMANDS[argv[0]]).main(argv[1:])
 
 

@@ -12,8 +12,8 @@ pow the stratified sweep of >= 2^30 pairs (routines/lab/pairs.py).
 """
 from __future__ import annotations
 
-import argparse
 import json
+import os
 import sys
 
 from reactor import WIDTHS
@@ -22,6 +22,7 @@ from .. import NAMES, jit
 from ..base import PRECISIONS
 from ..lab import evaluate, sample_inputs, sweep
 from ..lab.pairs import stratified_pow
+from . import add_quiet, parser as command_parser, positive_int
 
 
 def measure(name: str, precision: str, fma: bool, *, width=None, exhaustive=False, samples=2 ** 20,
@@ -36,18 +37,24 @@ def measure(name: str, precision: str, fma: bool, *, width=None, exhaustive=Fals
 
 
 def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(prog="python -m routines accuracy", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_parser("accuracy", __doc__, (
+        "exp2 --precision relaxed --fma off",
+        "log2 --exhaustive --json out/accuracy/log2_full_fma.json",
+        "pow --samples 100000 --width 8"))
     parser.add_argument("function", choices=NAMES)
     parser.add_argument("--precision", choices=PRECISIONS, default="full")
     parser.add_argument("--fma", choices=("on", "off"), default="on")
-    parser.add_argument("--width", type=int, choices=WIDTHS)
-    parser.add_argument("--exhaustive", action="store_true")
-    parser.add_argument("--samples", type=int, default=2 ** 20, help="random inputs in quick mode")
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--width", type=int, choices=WIDTHS, help="SIMD lanes (default: the target's)")
+    parser.add_argument("--exhaustive", action="store_true", help="every float32 input (pow: >= 2^30 pairs)")
+    parser.add_argument("--samples", type=positive_int, metavar="N", default=2 ** 20,
+                        help="random inputs in quick mode (default 2^20)")
+    parser.add_argument("--workers", type=positive_int, metavar="N", default=2,
+                        help="processes of the exhaustive sweep (default 2)")
     parser.add_argument("--json", metavar="FILE", help="also write the figures as JSON ('-': stdout)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_quiet(parser, "no progress bar (it is shown only on a terminal anyway)")
     args = parser.parse_args(argv)
+    if args.json and args.json != "-":  # before the measurement, not after a minute of it
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     result = measure(args.function, args.precision, args.fma == "on", width=args.width,
                      exhaustive=args.exhaustive, samples=args.samples, workers=args.workers,
                      progress=not args.quiet)
@@ -57,6 +64,7 @@ def main(argv: list[str]) -> int:
         data = dict(result.to_json(), fma=args.fma == "on", width=args.width, exhaustive=args.exhaustive)
         if args.json == "-":
             json.dump(data, sys.stdout, indent=1)
+            print()
         else:
             with open(args.json, "w") as f:
                 json.dump(data, f, indent=1)

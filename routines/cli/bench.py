@@ -8,14 +8,15 @@ alike. Prints ns/element and the speed-up over NumPy.
 """
 from __future__ import annotations
 
-import argparse
 import json
+import os
 import time
 
 import numpy as np
 
 from .. import jit
 from ..base import PRECISIONS
+from . import parser as command_parser, positive_int
 
 NUMPY = {
     "exp2": lambda x, out: np.exp2(x, out=out), "exp": lambda x, out: np.exp(x, out=out),
@@ -67,13 +68,18 @@ def run(functions=DEFAULT_FUNCTIONS, size: int = 65536, rounds: int = 7):
 
 
 def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(prog="python -m routines bench", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--size", type=int, default=65536, help="elements per call (default 64K)")
-    parser.add_argument("--rounds", type=int, default=7)
-    parser.add_argument("--functions", nargs="*", default=list(DEFAULT_FUNCTIONS), choices=DEFAULT_FUNCTIONS)
-    parser.add_argument("--json", metavar="FILE")
+    parser = command_parser("bench", __doc__, ("", "--functions exp2 pow --size 4096 --rounds 3",
+                                               "--json out/bench.json"))
+    parser.add_argument("--size", type=positive_int, metavar="N", default=65536,
+                        help="elements per call (default 64K)")
+    parser.add_argument("--rounds", type=positive_int, metavar="N", default=7,
+                        help="interleaved rounds; each candidate keeps its best (default 7)")
+    parser.add_argument("--functions", nargs="+", default=list(DEFAULT_FUNCTIONS), choices=DEFAULT_FUNCTIONS,
+                        metavar="F", help=f"functions to time (default all: {' '.join(DEFAULT_FUNCTIONS)})")
+    parser.add_argument("--json", metavar="FILE", help="also write the rows as JSON")
     args = parser.parse_args(argv)
+    if args.json:
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     rows = run(args.functions, args.size, args.rounds)
     print(f"{'function':8s} {'variant':20s} {'ns/elem':>9s} {'vs numpy':>9s}")
     for r in rows:

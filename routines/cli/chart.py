@@ -7,27 +7,28 @@ peers, the Pareto frontier and its lower convex hull, non-conforming points
 marked) as PNG and SVG, from the JSON that ``python -m routines report``
 wrote (default ``out/report.json``). Without that file it first runs the
 report in its quick mode (and writes the JSON). The chart needs matplotlib
-(``pip install "reactor[plot]"``); without it the command says so in one
+(``pip install "reactor-simd[plot]"``); without it the command says so in one
 line and exits 0, without running anything. See docs/performance.md.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
 
 from ..perf import chart, report, timing
+from . import CommandError, add_quiet, parser as command_parser
 
 
 def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(prog="python -m routines chart", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_parser("chart", __doc__, ("", "--error margin", "--from out/report.json --out docs/img"))
     parser.add_argument("--from", dest="source", metavar="FILE",
                         help="report JSON (default DIR/report.json)")
-    parser.add_argument("--error", choices=("ulp", "margin"), default="ulp")
-    parser.add_argument("--out", default="out", metavar="DIR")
+    parser.add_argument("--error", choices=("ulp", "margin"), default="ulp",
+                        help="y axis: max ULP-32 or max margin against the tolerance (default ulp)")
+    parser.add_argument("--out", default="out", metavar="DIR", help="output directory (default out/)")
     parser.add_argument("--name", help="file name without extension (default chart / chart-margin)")
+    add_quiet(parser, "no progress bars while the quick report runs (shown only on a terminal anyway)")
     args = parser.parse_args(argv)
     missing = chart.missing_matplotlib()
     if missing:
@@ -36,14 +37,17 @@ def main(argv: list[str]) -> int:
     source = args.source or os.path.join(args.out, "report.json")
     if os.path.exists(source):
         with open(source) as f:
-            data = json.load(f)
+            try:
+                data = json.load(f)
+            except ValueError as exc:
+                raise CommandError(f"{source} is not JSON written by `python -m routines report`: {exc}") from None
     else:
         if args.source:
-            print(f"no such file: {source}", file=sys.stderr)
-            return 2
+            raise CommandError(f"no such file: {source}")
         print(f"{source} not found: running the quick report first", file=sys.stderr)
         data = report.to_json(report.run(sizes={"L2": timing.SIZES["L2"]}, rounds={"L2": 7},
-                                         samples=2 ** 14, threads2=False))
+                                         samples=2 ** 14, threads2=False,
+                                         progress=not args.quiet))
         os.makedirs(args.out, exist_ok=True)
         with open(source, "w") as f:
             json.dump(data, f, indent=1)

@@ -13,13 +13,13 @@ now, and its row says so.
 """
 from __future__ import annotations
 
-import argparse
 import inspect
 import json
 import os
 
 from .. import NAMES, exponential, logarithm, polynomials, power, reciprocal, specials
 from ..base import PRECISIONS
+from . import parser as command_parser
 from .accuracy import measure
 
 MODULES = {"exp2": exponential, "exp": exponential, "log2": logarithm, "log": logarithm,
@@ -90,10 +90,11 @@ def page(name: str, root: str) -> str:
 
 
 def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(prog="python -m routines docs", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--measurements", default="out")
-    parser.add_argument("--out", default=os.path.join("docs", "routines"))
+    parser = command_parser("docs", __doc__, ("", "--measurements out --out docs/routines"))
+    parser.add_argument("--measurements", default="out", metavar="DIR",
+                        help="where the measuring commands wrote their JSON (default out/)")
+    parser.add_argument("--out", default=os.path.join("docs", "routines"), metavar="DIR",
+                        help="where the pages go (default docs/routines/)")
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     for name in NAMES:

@@ -8,35 +8,39 @@ threads at the DRAM size; the clock calibrated in the same run), models
 every variant's loop, writes ``DIR/report.json`` (every figure) and prints
 the table and the targets, then draws ``DIR/chart.png``/``.svg`` (cost vs
 max ULP) and ``DIR/chart-margin.png``/``.svg`` (cost vs margin). The chart
-needs matplotlib (``pip install "reactor[plot]"``); without it the command
+needs matplotlib (``pip install "reactor-simd[plot]"``); without it the command
 says so in one line and still succeeds. Progress goes to stderr. See
 docs/performance.md.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
 
 from ..perf import chart, report, timing
+from . import add_quiet, parser as command_parser, positive_int
 
 
 def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(prog="python -m routines report", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = command_parser("report", __doc__, ("--quick", "", "--exhaustive --out out/full",
+                                                "--functions exp2 log2 --sizes L1 L2 --rounds 9 --quiet"))
     parser.add_argument("--out", default="out", metavar="DIR", help="output directory (default out/)")
     parser.add_argument("--quick", action="store_true",
                         help="small sample (2^14), L2 size only, fewer rounds (under a minute)")
     parser.add_argument("--exhaustive", action="store_true",
                         help="accuracy over all 2^32 inputs (pow: the stratified pair sweep); ~40 s per variant")
     parser.add_argument("--exhaustive-peers", action="store_true", help="the same for the peers")
-    parser.add_argument("--functions", nargs="+", default=list(report.FUNCTIONS), choices=report.FUNCTIONS)
-    parser.add_argument("--sizes", nargs="+", choices=list(timing.SIZES), help="default: all (quick: L2)")
-    parser.add_argument("--rounds", type=int, help="timing rounds per size (default 61, DRAM 9)")
-    parser.add_argument("--samples", type=int, help="random inputs of the accuracy sample (default 2^20)")
+    parser.add_argument("--functions", nargs="+", default=list(report.FUNCTIONS), choices=report.FUNCTIONS,
+                        metavar="F", help=f"default all: {' '.join(report.FUNCTIONS)}")
+    parser.add_argument("--sizes", nargs="+", choices=list(timing.SIZES), metavar="SIZE",
+                        help=f"{' '.join(timing.SIZES)}; default: all (quick: L2)")
+    parser.add_argument("--rounds", type=positive_int, metavar="N",
+                        help="timing rounds per size (default 61, DRAM 9; quick 7)")
+    parser.add_argument("--samples", type=positive_int, metavar="N",
+                        help="random inputs of the accuracy sample (default 2^20; quick 2^14)")
     parser.add_argument("--no-threads", action="store_true", help="skip the two-thread timings")
-    parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    add_quiet(parser, "no progress bars (they are shown only on a terminal anyway)")
     args = parser.parse_args(argv)
     sizes = args.sizes or (["L2"] if args.quick else list(timing.SIZES))
     rounds = args.rounds or (7 if args.quick else None)

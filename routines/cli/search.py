@@ -15,18 +15,19 @@ measured), and more (see docs/search.md).
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
 import time
 
 from ..base import PRECISIONS
+from . import ArgumentParser, add_quiet, parser as command_parser, positive_int
 
 
-def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python -m routines search",
-                                description="Variant search: the Pareto set of cost vs Vulkan margin.")
+def _parser() -> ArgumentParser:
+    p = command_parser("search", __doc__, ("exp2 --precision full --quick",
+                                          "log2 --precision relaxed --json out/search/log2_relaxed.json",
+                                          "all --precision all --workers 2 --retune"))
     p.add_argument("function", choices=("exp2", "log2", "all"))
     p.add_argument("--precision", choices=PRECISIONS + ("all",), default="full")
     p.add_argument("--quick", action="store_true",
@@ -39,8 +40,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--markdown", action="store_true", help="print the table as Markdown")
     p.add_argument("--all-points", action="store_true",
                    help="print every point, not just the Pareto set and production")
-    p.add_argument("--workers", type=int, default=1, help="processes for exhaustive sweeps (default 1)")
+    p.add_argument("--workers", type=positive_int, metavar="N", default=1,
+                   help="processes for exhaustive sweeps (default 1)")
     p.add_argument("--no-time", action="store_true", help="skip the ns/element timing")
+    add_quiet(p, "no progress log on stderr")
     return p
 
 
@@ -85,7 +88,9 @@ def main(argv: list[str]) -> int:
 
     funcs = ("exp2", "log2") if args.function == "all" else (args.function,)
     precs = PRECISIONS if args.precision == "all" else (args.precision,)
-    log = (lambda s: print(s, file=sys.stderr, flush=True))
+    log = (lambda s: None) if args.quiet else (lambda s: print(s, file=sys.stderr, flush=True))
+    if args.json:  # before the search, not after it
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     everything = []
     t_all = time.perf_counter()
     for func in funcs:
@@ -115,7 +120,6 @@ def main(argv: list[str]) -> int:
                       f"{', '.join(best['candidate']['coefficients'])}")
     print(f"\n{len(everything)} points in {time.perf_counter() - t_all:.1f} s")
     if args.json:
-        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
         with open(args.json, "w") as f:
             json.dump(everything, f, indent=1)
     return 0

@@ -1,9 +1,8 @@
 """``python -m routines specials``: print the special-value tables (docs/specials.md)."""
 from __future__ import annotations
 
-import argparse
-
 from ..specials import markdown
+from . import parser as command_parser
 
 HEADER = """# Special values
 
@@ -19,6 +18,6 @@ generated from the same table (`routines/specials.py`) by
 
 
 def main(argv: list[str]) -> int:
-    argparse.ArgumentParser(prog="python -m routines specials", description=__doc__).parse_args(argv)
+    command_parser("specials", __doc__, ("", "> docs/specials.md")).parse_args(argv)
     print(HEADER + markdown(), end="")
     return 0

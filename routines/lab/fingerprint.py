@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import os
 import sys
 
 import numpy as np
@@ -92,22 +93,39 @@ def fingerprints(functions=None, widths=(16, 8, 4), target=None, n: int = N, pro
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m routines fingerprint", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--json", help="write the fingerprints to this file")
-    parser.add_argument("--compare", help="compare with fingerprints written earlier; exit 1 on a difference")
-    parser.add_argument("--target", help="code-generation target (default: host)")
-    parser.add_argument("--functions", nargs="*", help="only these functions")
-    parser.add_argument("--widths", type=int, nargs="*", default=[16, 8, 4])
-    args = parser.parse_args(argv)
+    from reactor import TARGETS, WIDTHS
+
+    from .. import NAMES
+    from ..cli import CommandError, add_quiet, parser as command_parser
+
+    parser = command_parser("fingerprint", __doc__, (
+        "--json out/fingerprints.json", "--compare out/fingerprints.json --quiet",
+        "--functions exp2 pow --widths 16 --target avx2"))
+    parser.add_argument("--json", metavar="FILE", help="write the fingerprints to this file")
+    parser.add_argument("--compare", metavar="FILE",
+                        help="compare with fingerprints written earlier; exit 1 on a difference")
+    parser.add_argument("--target", choices=TARGETS, help="code-generation target (default: host)")
+    parser.add_argument("--functions", nargs="+", choices=NAMES, metavar="F",
+                        help=f"only these functions (default all: {' '.join(NAMES)})")
+    parser.add_argument("--widths", type=int, nargs="+", choices=WIDTHS, default=[16, 8, 4], metavar="W",
+                        help=f"SIMD widths, from {', '.join(map(str, WIDTHS))} (default 16 8 4)")
+    add_quiet(parser, "no line per variant (with --json or --compare)")
+    args = parser.parse_args(argv if argv is not None else sys.argv[1:])
+    old = None
+    if args.compare:  # read before the long run, not after it
+        with open(args.compare) as f:
+            try:
+                old = json.load(f)
+            except ValueError as exc:
+                raise CommandError(f"{args.compare} is not a fingerprint JSON: {exc}") from None
+    if args.json:
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     fps = fingerprints(args.functions, tuple(args.widths), args.target,
-                       progress=lambda k, v: print(f"{k:32s} {v[:16]}", flush=True))
+                       progress=None if args.quiet else lambda k, v: print(f"{k:32s} {v[:16]}", flush=True))
     if args.json:
         with open(args.json, "w") as f:
             json.dump(fps, f, indent=1)
-    if args.compare:
-        with open(args.compare) as f:
-            old = json.load(f)
+    if old is not None:
         diff = [k for k in fps if k in old and old[k] != fps[k]]
         missing = [k for k in fps if k not in old]
         print(f"{len(fps) - len(diff) - len(missing)} identical, {len(diff)} different, "
@@ -119,4 +137,6 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    from ..cli import run
+
+    sys.exit(run(main))

@@ -73,7 +73,8 @@ def stratified_pow(ufunc, precision: str, *, seed: int = 0, workers: int = 2, st
     tasks = list(enumerate(y_strata(seed)[:strata]))
     ctx = multiprocessing.get_context("fork")
     with ctx.Pool(workers, initializer=_init, initargs=(ufunc, precision, seed)) as pool, \
-            tqdm(total=len(tasks), unit="stratum", file=sys.stderr, disable=not progress,
+            tqdm(total=len(tasks), unit="stratum", file=sys.stderr,
+                 disable=None if progress else True,  # None: only on a terminal
                  desc=f"pow {precision}") as bar:
         for part in pool.imap_unordered(_stratum, tasks):
             total.merge(part)

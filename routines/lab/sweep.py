@@ -564,7 +564,8 @@ def sweep(ufunc, func, precision, *, start=0, stop=2**32, chunk=2**22, workers=2
             workers, initializer=_init_worker, initargs=(ufunc, func, precision))
         parts = pool.imap_unordered(_run_task, tasks)
     with pool, tqdm(total=stop - start, unit="in", unit_scale=True, file=sys.stderr,
-                    disable=not progress, desc=f"{func} {precision}") as bar:
+                    disable=None if progress else True,  # None: only on a terminal
+                    desc=f"{func} {precision}") as bar:
         for part in parts:
             total.merge(part)
             bar.update(part.count)

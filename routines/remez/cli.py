@@ -1,8 +1,8 @@
-"""``remez``: a LolRemez-compatible command line for :func:`routines.remez.remez`.
+"""``python -m routines remez``: a LolRemez-compatible command line for :func:`routines.remez.remez`.
 
 Example::
 
-    remez -d 4 -r "0:1" "(2^x-x-1)/x" "1/x"
+    python -m routines remez -d 4 -r "0:1" "(2^x-x-1)/x" "1/x"
 
 prints LolRemez's comment header, the polynomial in Horner form with the
 exact coefficients to 8 significant digits (as LolRemez prints them), the
@@ -22,6 +22,7 @@ import sys
 import numpy as np
 from mpmath import mp, mpf
 
+from ..cli import ArgumentParser, int_type, positive_int
 from .expr import Expression, ExpressionError, parse
 from .fit import RemezError, RemezResult, remez
 
@@ -30,20 +31,38 @@ class _UsageError(Exception):
     """Invalid command-line input (exit status 2)."""
 
 
+def _checked(parse, what: str):
+    """An argparse type: ``parse`` (a :mod:`routines.cli` type) with the message naming ``what``."""
+    def check(text: str):
+        try:
+            return parse(text)
+        except argparse.ArgumentTypeError as exc:
+            if str(exc).startswith("invalid int value"):
+                raise
+            rule = str(exc).rsplit(", not ", 1)[0]  # "must be a positive integer"
+            raise argparse.ArgumentTypeError(f"invalid {what} {text.strip()}: {rule}") from None
+    check.__name__ = parse.__name__
+    return check
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="remez",
+    p = ArgumentParser(
+        prog="python -m routines remez",
         description="Minimax polynomial approximation of f(x) on [xmin, xmax], "
         "minimising max |p(x) - f(x)| / |g(x)| (g is a tolerance, as in LolRemez).",
-        epilog='Example: remez -d 4 -r "0:1" "(2^x-x-1)/x" "1/x". '
-        "Expressions use x, numbers, + - * / ^ ( ) and exp exp2 log log2 sqrt erf abs; "
+        examples=['python -m routines remez -d 4 -r "0:1" "(2^x-x-1)/x" "1/x"',
+                  'python -m routines remez -d 2 -r "-0.5:0.5" "exp(x)" --json',
+                  'python -m routines remez -d 5 -r "0:1" "log2(1+x)/x" --dps 60'],
+        epilog="Expressions use x, numbers, + - * / ^ ( ) and exp exp2 log log2 sqrt erf abs;\n"
         "put -- before an expression that starts with '-'.",
     )
-    p.add_argument("-d", "--degree", type=int, default=4, help="degree of the polynomial (default 4)")
+    p.add_argument("-d", "--degree", type=_checked(positive_int, "degree"), default=4,
+                   help="degree of the polynomial (default 4)")
     p.add_argument("-r", "--range", default="-1:1", metavar="XMIN:XMAX", help="interval (default -1:1)")
     p.add_argument("--float", action="store_true", help="accepted for LolRemez compatibility (output is binary32)")
     p.add_argument("--json", action="store_true", help="print a JSON object instead of C code")
-    p.add_argument("--dps", type=int, default=50, help="working precision in decimal digits (default 50)")
+    p.add_argument("--dps", type=_checked(int_type(15), "precision --dps"), default=50,
+                   help="working precision in decimal digits, at least 15 (default 50)")
     p.add_argument("function", help="f(x) to approximate")
     p.add_argument("weight", nargs="?", help="tolerance g(x) (default 1)")
     return p
@@ -140,10 +159,6 @@ def main(argv: list[str]) -> int:
     except SystemExit as exc:
         return int(exc.code or 0)
     try:
-        if args.degree < 1:
-            raise _UsageError(f"invalid degree {args.degree}: must be at least 1")
-        if args.dps < 15:
-            raise _UsageError(f"invalid precision --dps {args.dps}: must be at least 15")
         parts = args.range.split(":")
         if len(parts) != 2:
             raise _UsageError(f"invalid range {args.range!r}: expected XMIN:XMAX")
@@ -155,10 +170,10 @@ def main(argv: list[str]) -> int:
             raise _UsageError(f"invalid range {args.range!r}: xmin must be less than xmax")
         result = remez(f, xmin, xmax, args.degree, w, dps=args.dps)
     except _UsageError as exc:
-        print(f"remez: error: {exc}", file=sys.stderr)
+        print(f"error: {exc}", file=sys.stderr)
         return 2
     except RemezError as exc:
-        print(f"remez: fit failed: {exc}", file=sys.stderr)
+        print(f"error: fit failed: {exc}", file=sys.stderr)
         return 1
     print(_json(args, result) if args.json else _text(args, parts[0].strip(), parts[1].strip(), result))
     return 0

@@ -40,7 +40,8 @@ def run(functions=FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20, exhaus
     functions = tuple(functions)
     sizes = dict(timing.SIZES if sizes is None else sizes)
     rounds = {s: (rounds or {}).get(s, 9 if n >= 2 ** 22 else 61) for s, n in sizes.items()}
-    bar = lambda total, desc: tqdm(total=total, desc=desc, file=sys.stderr, disable=not progress,
+    bar = lambda total, desc: tqdm(total=total, desc=desc, file=sys.stderr,
+                                   disable=None if progress else True,  # None: only on a terminal
                                    leave=False)
     cal_kw = {} if calibrate_ops is None else {"ops": calibrate_ops}
     cal0 = clock.calibrate(**cal_kw)
