@@ -47,8 +47,13 @@ class External:
     @functools.cached_property
     def address(self) -> int | None:
         """The symbol's address, or None if the library or symbol is missing."""
+        return self.resolve(self.symbol, self.library)
+
+    @staticmethod
+    def resolve(symbol: str, library: str | None) -> int | None:
+        """The address of ``symbol`` in ``library`` (None: the process), or None if missing."""
         try:
-            return ctypes.cast(getattr(_library(self.library), self.symbol), ctypes.c_void_p).value
+            return ctypes.cast(getattr(_library(library), symbol), ctypes.c_void_p).value
         except (OSError, AttributeError):
             return None
 
@@ -70,6 +75,7 @@ class External:
             irs.append(to_ir(a, want))
         fn = em.module.declare(self.symbol, self.returns, self.args)
         em.module.imports[self.symbol] = self.address
+        em.module.import_libraries[self.symbol] = self.library
         result = em.call(fn, irs, name=self.symbol.lower())
         scalar_call = all(not isinstance(a, Value) or a.width == 1 for a in args)
         if scalar_call and self.returns.width > 1:

@@ -72,6 +72,7 @@ class ModuleEmitter:
         self.module.data_layout = build.target.data_layout
         self.functions: dict[object, ir.Function] = {}
         self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
+        self.import_libraries: dict[str, str | None] = {}  # external symbol -> its library
         self.written: dict[object, frozenset] = {}  # (Function, width) -> pointer parameters it stores to
 
     def unique_name(self, base: str) -> str:

@@ -2,15 +2,18 @@
 
 The disk cache lives in ``$REACTOR_CACHE_DIR`` (default
 ``~/.cache/reactor``); ``REACTOR_CACHE=0`` disables it. Entries are object
-files named by a SHA-256 over the IR text, target CPU and features, options
-and llvmlite version, written atomically with a SHA-256 of their contents (a
-damaged file is a miss), so concurrent processes can share the directory and a
-stale entry can never be picked up.
+files (``.o``) named by a SHA-256 over the IR text, target CPU and features,
+options and llvmlite version, and *recipes* (``.r``: small JSON records named
+by ``reactor.recipe`` keys, which say which object a body builds without
+building it), written atomically with a SHA-256 of their contents (a damaged
+file is a miss), so concurrent processes can share the directory and a stale
+entry can never be picked up.
 """
 from __future__ import annotations
 
 import collections
 import hashlib
+import json
 import os
 import tempfile
 import threading
@@ -39,6 +42,7 @@ def memory_put(key: str, obj: bytes) -> None:
 def memory_clear() -> None:
     with _memory_lock:
         _memory.clear()
+        _recipes.clear()
 
 
 def directory() -> str | None:
@@ -48,12 +52,12 @@ def directory() -> str | None:
     return os.environ.get("REACTOR_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "reactor")
 
 
-def disk_get(key: str) -> bytes | None:
+def disk_get(key: str, suffix: str = ".o") -> bytes | None:
     root = directory()
     if root is None:
         return None
     try:
-        with open(os.path.join(root, key + ".o"), "rb") as f:
+        with open(os.path.join(root, key + suffix), "rb") as f:
             data = f.read()
     except OSError:
         return None
@@ -62,7 +66,7 @@ def disk_get(key: str) -> bytes | None:
     return obj if obj and hashlib.sha256(obj).digest() == digest else None
 
 
-def disk_put(key: str, obj: bytes) -> None:
+def disk_put(key: str, obj: bytes, suffix: str = ".o") -> None:
     root = directory()
     if root is None:
         return
@@ -71,6 +75,34 @@ def disk_put(key: str, obj: bytes) -> None:
         fd, tmp = tempfile.mkstemp(dir=root, suffix=".tmp")
         with os.fdopen(fd, "wb") as f:
             f.write(hashlib.sha256(obj).digest() + obj)
-        os.replace(tmp, os.path.join(root, key + ".o"))
+        os.replace(tmp, os.path.join(root, key + suffix))
     except OSError:
         pass  # a read-only or full disk only costs a recompile next time
+
+
+_recipes: "collections.OrderedDict[str, dict]" = collections.OrderedDict()
+
+
+def recipe_get(key: str, use_disk: bool = True) -> dict | None:
+    """The recipe stored for ``key`` (memory, then disk), or None."""
+    with _memory_lock:
+        found = _recipes.get(key)
+    if found is None and use_disk:
+        raw = disk_get(key, ".r")
+        try:
+            found = json.loads(raw) if raw else None
+        except ValueError:
+            found = None
+        if found is not None:
+            with _memory_lock:
+                _recipes[key] = found
+    return found
+
+
+def recipe_put(key: str, recipe: dict, use_disk: bool = True) -> None:
+    with _memory_lock:
+        _recipes[key] = recipe
+        while len(_recipes) > MEMORY_ENTRIES:
+            _recipes.popitem(last=False)
+    if use_disk:
+        disk_put(key, json.dumps(recipe, sort_keys=True).encode(), ".r")

@@ -35,6 +35,11 @@ def _lljit():
     return llvm.create_lljit_compiler()
 
 
+def toolchain() -> str:
+    """What, besides the IR, decides the object code: the pipeline's version and llvmlite's."""
+    return f"reactor pipeline {CACHE_VERSION}, llvmlite {llvmlite.__version__}"
+
+
 def cache_key(ir_text: str, target: Target, opt: int) -> str:
     h = hashlib.sha256()
     for part in (CACHE_VERSION, llvmlite.__version__, target.key(), str(opt), ir_text):
@@ -62,21 +67,38 @@ def pipeline(ir_text: str, target: Target, opt: int) -> llvm.ModuleRef:
         return mod
 
 
-class CompiledCode:
-    """Machine code for one module, loaded into the process."""
+def cached_object(key: str, use_disk_cache: bool = True) -> tuple[bytes | None, str]:
+    """The object code stored under ``key`` and where it came from ("memory cache", "disk cache")."""
+    obj = cache.memory_get(key)
+    if obj is not None:
+        return obj, "memory cache"
+    obj = cache.disk_get(key) if use_disk_cache else None
+    return obj, "disk cache"
 
-    def __init__(self, ir_text: str, target: Target, opt: int, exports: tuple[str, ...],
-                 use_disk_cache: bool = True, imports: dict[str, int] | None = None):
-        self.ir_text, self.target, self.opt = ir_text, target, opt
-        self.key = cache_key(ir_text, target, opt)
+
+class CompiledCode:
+    """Machine code for one module, loaded into the process.
+
+    Built from ``ir_text``; or, when ``key`` (the key of IR built earlier) is
+    given without it, from the object cached under that key, with
+    ``ir_source()`` building the IR only if it is asked for (``ir_text``)."""
+
+    def __init__(self, ir_text: str | None, target: Target, opt: int, exports: tuple[str, ...],
+                 use_disk_cache: bool = True, imports: dict[str, int] | None = None, *,
+                 key: str | None = None, obj: bytes | None = None, ir_source=None):
+        self.target, self.opt = target, opt
+        self._ir_text, self._ir_source = ir_text, ir_source
+        if key is None:
+            if ir_text is None:
+                raise ValueError("CompiledCode needs the IR text or the key of IR built before")
+            key = cache_key(ir_text, target, opt)
+        self.key = key
         self.source = "memory cache"
-        obj = cache.memory_get(self.key)
-        if obj is None and use_disk_cache:
-            obj = cache.disk_get(self.key)
-            self.source = "disk cache"
+        if obj is None:
+            obj, self.source = cached_object(self.key, use_disk_cache)
         if obj is None:
             self.source = "compiled"
-            mod = pipeline(ir_text, target, opt)
+            mod = pipeline(self.ir_text, target, opt)
             with _lock:
                 obj = target.machine.emit_object(mod)
             if use_disk_cache:
@@ -101,6 +123,13 @@ class CompiledCode:
                                f"(it lacks {', '.join(sorted(set(self.target.required) - host_features()))}); "
                                f"inspect its assembly instead")
         return self._addresses[name]
+
+    @property
+    def ir_text(self) -> str:
+        """The module's IR as built (built again on demand when the object came from a recipe)."""
+        if self._ir_text is None:
+            self._ir_text = self._ir_source()
+        return self._ir_text
 
     @functools.cached_property
     def optimized_ir(self) -> str:

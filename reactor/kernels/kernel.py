@@ -44,7 +44,10 @@ from ..dsl.values import value_class
 from ..errors import DSLTypeError, ReactorError
 from ..ir import emitter as _em
 from ..ir.types import KINDS, PointerType, VType
-from ..jit.compiler import CompiledCode, ShowsCode
+from ..dsl.external import External
+from ..jit import cache
+from ..jit.compiler import CompiledCode, ShowsCode, cached_object
+from .recipe import recipe_key
 from . import parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
 from .ufunc_api import make_ufunc
@@ -63,19 +66,57 @@ class Kernel(ShowsCode):
         self.name, self.build = name, build
         ins, outs = _kinds(signature, name)
         self.in_kinds, self.out_kinds = ins, outs
-        module = _em.ModuleEmitter(name, build)
         loop_name, entry_name = f"{name}.loop", f"{name}.ufunc"
-        vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
-        scalar = emit_body(module, name, body, ins, outs, 1)
-        serial = LoopEmitter(module, loop_name, vector, scalar, ins, outs, build.width).emit()
-        emit_dispatcher(module, entry_name, serial)
-        self.code = CompiledCode(module.text, build.target, build.opt, (loop_name, entry_name), build.cache,
-                                 module.imports)
+        exports = (loop_name, entry_name)
+        self.code = self._from_recipe(body, signature, exports) or self._traced(body, exports, signature)
         self._loop = self.code.address(entry_name)
-        self.cycles_per_element = estimated_cycles(vector or scalar, build.width if vector else 1)
         self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element)
         self._signature = [[k.dtype for k in ins + outs]]
         self.types = "".join(k.dtype.char for k in ins) + "->" + "".join(k.dtype.char for k in outs)
+
+    def _module(self, body) -> tuple[_em.ModuleEmitter, float]:
+        """Trace ``body`` into its module: the bodies, the loop and the dispatcher."""
+        build, name, ins, outs = self.build, self.name, self.in_kinds, self.out_kinds
+        module = _em.ModuleEmitter(name, build)
+        vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
+        scalar = emit_body(module, name, body, ins, outs, 1)
+        serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width).emit()
+        emit_dispatcher(module, f"{name}.ufunc", serial)
+        return module, estimated_cycles(vector or scalar, build.width if vector else 1)
+
+    def _recipe(self, body, signature) -> str | None:
+        return recipe_key(body, "kernel", self.name, signature, self.build.key())
+
+    def _from_recipe(self, body, signature, exports) -> CompiledCode | None:
+        """The code a body with this recipe compiled to before, without tracing it (None: trace)."""
+        build = self.build
+        self.recipe = self._recipe(body, signature)
+        found = cache.recipe_get(self.recipe, build.cache) if self.recipe else None
+        if not found:
+            return None
+        obj, source = cached_object(found["ir_key"], build.cache)
+        imports: dict[str, int] = {}
+        for symbol, library in found["imports"]:
+            address = External.resolve(symbol, library)
+            if address is None:
+                return None  # the library is gone: trace, and let the External report it
+            imports[symbol] = address
+        if obj is None:
+            return None
+        self.cycles_per_element = found["cycles"]
+        code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
+                            obj=obj, ir_source=lambda: self._module(body)[0].text)
+        code.source = f"recipe, {source}"
+        return code
+
+    def _traced(self, body, exports, signature) -> CompiledCode:
+        build = self.build
+        module, self.cycles_per_element = self._module(body)
+        code = CompiledCode(module.text, build.target, build.opt, exports, build.cache, module.imports)
+        if self.recipe:
+            cache.recipe_put(self.recipe, {"ir_key": code.key, "cycles": self.cycles_per_element,
+                                           "imports": sorted(module.import_libraries.items())}, build.cache)
+        return code
 
     def __repr__(self):
         return f"<reactor.Kernel {self.name} {self.build.describe()}>"

@@ -85,10 +85,10 @@ def test_memory_and_disk_cache(cache_dir):
     assert _objects(cache_dir) == [k1.code.key + ".o"]
     # a different Python function producing the same IR: LLVM is skipped
     u2 = kernel(_make_body(1.25))
-    assert u2 is not u1 and kernel_of(u2).code.source == "memory cache"
+    assert u2 is not u1 and kernel_of(u2).code.source == "recipe, memory cache"  # not even traced
     cache.memory_clear()
     u3 = kernel(_make_body(1.25))
-    assert kernel_of(u3).code.source == "disk cache"
+    assert kernel_of(u3).code.source == "recipe, disk cache"
     x = np.arange(50, dtype=np.float32)
     for u in (u1, u2, u3):
         assert_bits_equal(u(x), x * np.float32(1.25) + 1)
@@ -116,7 +116,7 @@ def test_damaged_disk_cache_entry_is_a_miss(cache_dir):
         assert kernel_of(u2).code.source == "compiled"
         assert_bits_equal(u2(np.ones(20, np.float32)), np.full(20, 6.25, np.float32))
     cache.memory_clear()
-    assert kernel_of(kernel(_make_body(5.25))).code.source == "disk cache"  # rewritten
+    assert kernel_of(kernel(_make_body(5.25))).code.source == "recipe, disk cache"  # rewritten
 
 
 def test_disk_cache_hit_in_a_fresh_process(cache_dir):
@@ -136,7 +136,7 @@ def test_disk_cache_hit_in_a_fresh_process(cache_dir):
     first, second = run(), run()
     assert first.returncode == 0, first.stderr
     assert first.stdout.split() == ["compiled", "14.0"]
-    assert second.stdout.split() == ["disk", "cache", "14.0"]
+    assert second.stdout.split() == ["recipe,", "disk", "cache", "14.0"]  # not even traced
 
 
 # -- threads ------------------------------------------------------------------------

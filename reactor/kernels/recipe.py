@@ -1,0 +1,161 @@
+"""What determines a body's IR, hashed without building it: the key of a cache hit without tracing.
+
+``recipe_key(body, *parts)`` hashes everything that decides the IR a DSL body
+produces, without running it: its code object (bytecode, constants, names,
+nested code), the values it reads from its closure cells, defaults and module
+globals, recursively through the plain Python helpers and reactor Functions it
+calls, the sources of reactor and of the builder libraries registered with
+``reactor.hide_frames_of`` (routines), llvmlite's version, and ``parts`` (the
+signature and build settings). A value that is not a number, string, bytes,
+bool, None, a tuple of those, a module of a known library, a reactor object
+or a Python function makes the key ``None``: such a body is traced (its IR is
+the key then), so a stale object is never linked. Builtins count by name.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+import types
+
+import numpy as np
+
+from ..dsl.external import External
+from ..dsl.function import FunctionDef
+from ..dsl.signature import GenericType
+from ..dsl.values import Value
+from ..errors import library_dirs
+from ..jit.compiler import toolchain
+
+_SIMPLE = (int, float, complex, str, bytes, bool, type(None))
+#: Modules whose functions a body may use for constants: keyed by name and version.
+_STABLE_MODULES = {"math": "", "numpy": np.__version__, "operator": "", "functools": ""}
+
+
+class Unkeyable(Exception):
+    """A value the key cannot describe (the body must be traced)."""
+
+
+@functools.cache
+def _library_digest(dirs: tuple[str, ...]) -> str:
+    """SHA-256 over the Python sources of reactor and the registered builder libraries."""
+    h = hashlib.sha256(toolchain().encode())
+    for root in dirs:
+        for folder, subdirs, files in sorted(os.walk(root)):
+            subdirs.sort()
+            for name in sorted(files):
+                if name.endswith(".py"):
+                    path = os.path.join(folder, name)
+                    h.update(path[len(root):].encode())
+                    with open(path, "rb") as f:
+                        h.update(f.read())
+    return h.hexdigest()
+
+
+def library_digest() -> str:
+    return _library_digest(tuple(sorted(library_dirs())))
+
+
+def _in_library(module_name: str | None) -> bool:
+    return module_name is not None and module_name.split(".")[0] in _library_packages()
+
+
+def _library_packages() -> set[str]:
+    return {os.path.basename(os.path.normpath(d)) for d in library_dirs()}
+
+
+class _Hasher:
+    def __init__(self):
+        self.h = hashlib.sha256()
+        self.seen: set[int] = set()
+
+    def put(self, *parts) -> None:
+        for p in parts:
+            self.h.update(repr(p).encode())
+            self.h.update(b"\0")
+
+    def code(self, code: types.CodeType, scope: dict) -> None:
+        self.put("code", code.co_code, code.co_names, code.co_varnames, code.co_freevars, code.co_cellvars,
+                 code.co_argcount, code.co_kwonlyargcount, code.co_flags)
+        for const in code.co_consts:
+            if isinstance(const, types.CodeType):
+                self.code(const, scope)
+            else:
+                self.value(const)
+        for name in code.co_names:
+            if name in scope:
+                self.put("global", name)
+                self.value(scope[name])
+            elif isinstance(__builtins__, dict) and name in __builtins__ or hasattr(__builtins__, name):
+                self.put("builtin", name)
+            else:
+                self.put("attribute", name)  # an attribute name, or a global defined later
+
+    def function(self, fn) -> None:
+        if id(fn) in self.seen:
+            self.put("again", fn.__qualname__)
+            return
+        self.seen.add(id(fn))
+        self.put("function", fn.__qualname__)
+        self.code(fn.__code__, fn.__globals__)
+        for cell in fn.__closure__ or ():
+            try:
+                self.value(cell.cell_contents)
+            except ValueError:  # an empty cell (a name bound later)
+                self.put("empty cell")
+        for default in (fn.__defaults__ or ()) + tuple((fn.__kwdefaults__ or {}).values()):
+            self.value(default)
+
+    def value(self, v) -> None:
+
+        if isinstance(v, _SIMPLE):
+            self.put(type(v).__name__, v)
+        elif isinstance(v, np.generic) and v.dtype.kind in "biuf":
+            self.put("numpy scalar", v.dtype.str, v.tobytes())
+        elif isinstance(v, (tuple, frozenset)):
+            self.put(type(v).__name__, len(v))
+            for item in (sorted(v, key=repr) if isinstance(v, frozenset) else v):
+                self.value(item)
+        elif isinstance(v, type) and issubclass(v, Value):
+            self.put("value type", v.__name__)
+        elif isinstance(v, GenericType):
+            self.put("generic type", repr(v))
+        elif isinstance(v, FunctionDef):
+            self.put("dsl function", v.name, sorted(v.option_overrides.items()), v.signature)
+            self.function(v.body)
+        elif isinstance(v, External):
+            self.put("external", v.symbol, v.library, v.returns, v.args)
+        elif isinstance(v, types.ModuleType):
+            if v.__name__ in _STABLE_MODULES:
+                self.put("module", v.__name__, _STABLE_MODULES[v.__name__])
+            elif _in_library(v.__name__):
+                self.put("library module", v.__name__)
+            else:
+                raise Unkeyable(f"module {v.__name__}")
+        elif isinstance(v, (types.FunctionType, types.BuiltinFunctionType)) or callable(v) and hasattr(v, "__wrapped__"):
+            module = getattr(v, "__module__", None)
+            stable = (module or "").split(".")[0] in _STABLE_MODULES
+            if _in_library(module) or stable or isinstance(v, types.BuiltinFunctionType):
+                self.put("library function", module, getattr(v, "__qualname__", repr(v)))
+            elif isinstance(v, types.FunctionType):
+                self.function(v)
+            else:
+                raise Unkeyable(repr(v))
+        elif isinstance(v, type) and (_in_library(v.__module__) or v.__module__ in ("builtins", "numpy")):
+            self.put("class", v.__module__, v.__qualname__)
+        elif _in_library(getattr(type(v), "__module__", None)):
+            # a reactor object (a Precision, a Target ...): its state by repr
+            self.put("library object", type(v).__qualname__, repr(v))
+        else:
+            raise Unkeyable(type(v).__name__)
+
+
+def recipe_key(body, *parts) -> str | None:
+    """The key of ``body``'s IR with ``parts`` (signature, settings), or None if it has none."""
+    hasher = _Hasher()
+    hasher.put("reactor recipe 1", library_digest(), *parts)
+    try:
+        hasher.function(body)
+    except Unkeyable:
+        return None
+    return hasher.h.hexdigest()
