@@ -64,6 +64,7 @@ def return_lines(code) -> list[tuple[int, str | None]]:
             if isinstance(node, ast.Return) and node.value is not None]
 
 
+@functools.lru_cache(maxsize=1024)
 def returns_in_blocks(code):
     """``((file, line), block)`` of the first ``return`` inside a run-time block, or None."""
     parsed = body_tree(code)

@@ -43,11 +43,13 @@ def _build(name, precision, fma, width, target, tag_width):
     doc = (f"{name}, {precision.value} precision, FMA {'on' if fma else 'off'}, {width} lane{'s' * (width > 1)}, "
            f"target {target} ({where.cpu}). float32 only: NumPy refuses a float64 array under its default "
            f"casting; compute one in float32 with dtype=np.float32, casting='same_kind'.")
+    builder = BINARY[name] if name in BINARY else UNARY[name]  # the body reads only keyable values
+
     def binary(x: Float, y: Float) -> Float:
-        return BINARY[name](x, y, precision=precision)
+        return builder(x, y, precision=precision)
 
     def unary(x: Float) -> Float:
-        return UNARY[name](x, precision=precision)
+        return builder(x, precision=precision)
 
     body = binary if name in BINARY else unary
     body.__doc__ = doc

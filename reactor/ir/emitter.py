@@ -111,6 +111,9 @@ def _llvm(t) -> ir.Type:
 
 
 def _same_type(what: str, *values) -> None:
+    first = values[0].type
+    if all(v.type is first for v in values[1:]):
+        return
     types = {str(v.type) for v in values}
     if len(types) > 1:
         raise TypeError(f"{what}: operand types differ ({', '.join(sorted(types))})")

@@ -199,7 +199,13 @@ def ir_type(t) -> LLVMType:
 
 
 def const(vtype: VType, value) -> ir.Constant:
-    """A constant of ``vtype`` with every lane equal to ``value``."""
+    """A constant of ``vtype`` with every lane equal to ``value`` (shared: constants are immutable)."""
+    return _const(vtype, type(value).__name__, repr(value), value)
+
+
+@functools.lru_cache(maxsize=4096)
+def _const(vtype: VType, kind: str, text: str, value) -> ir.Constant:
+    # keyed by the value's type and repr: 0.0 and -0.0 (equal, same hash) stay apart
     scalar = ir.Constant(vtype.kind.ir_type, value)
     if vtype.width == 1:
         return scalar

@@ -39,6 +39,12 @@ from .parallel import CYCLES_SCALE
 BOOL = KINDS["Bool"]
 LOOP_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), T.BYTES]
 LOOP_NAMES = ["args", "dims", "steps", "data"]
+#: The runtime's settings and a kernel's LoopConfig (reactor.kernels.parallel), as the IR sees them.
+SETTINGS = T.StructType((INDEX, INDEX, INDEX, T.BYTES, T.BYTES))
+_CONFIG = T.StructType((T.Address(SETTINGS), INDEX, INDEX))
+#: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats)
+PREPARE_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), INDEX, INDEX, T.PointerType(INDEX),
+                  INDEX, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES]
 
 
 def _idx(v: int):
@@ -118,7 +124,7 @@ class LoopEmitter:
     def emit(self):
         em = self.em
         with em:
-            args, dims, steps, _ = em.params
+            args, dims, steps, data = em.params
             self.n = em.load(dims, name="n")
             self.ptrs, self.steps = [], []
             for k in range(len(self.kinds)):
@@ -129,10 +135,7 @@ class LoopEmitter:
             em.store(_idx(0), self.i)
             scalar = em.new_block("scalar")
             if self.vector_fn is not None:
-                vector = em.new_block("vector")
-                em.cbranch(self._all([self._vector_layout(), self._operands_apart()]), vector, scalar)
-                em.goto(vector)
-                self._vector_loop(scalar)
+                self._vector_loop(args, dims, steps, data, scalar)
             else:
                 em.branch(scalar)
             em.goto(scalar)
@@ -142,56 +145,32 @@ class LoopEmitter:
             em.finish()
         return em.function
 
-    # -- layouts -------------------------------------------------------------------
-    def _is_step(self, k, size):
-        return self._cmp("eq", self.steps[k], _idx(size))
-
-    def _vector_layout(self):
-        """Every output contiguous, every input contiguous or broadcast (stride 0)."""
-        bool1 = VType(BOOL, 1)
-        conds = []
-        for k, kind in enumerate(self.kinds):
-            contiguous = self._is_step(k, kind.mem_bytes)
-            if k < len(self.ins):
-                contiguous = ops.binary(self.em, "or", bool1, contiguous, self._is_step(k, 0))
-            conds.append(contiguous)
-        return self._all(conds)
-
-    def _operands_apart(self):
-        """No output starts inside the n elements of an input, ahead of the input's
-        start, where the vector loop would read inputs before the element-by-element
-        order has written them: ufunc.accumulate passes out[i-1] as input i. (For
-        ordinary calls NumPy copies overlapping operands.)"""
-        em = self.em
-        addr = [em.convert("ptrtoint", p, INDEX, name=f"addr{k}") for k, p in enumerate(self.ptrs)]
-        conds = []
-        for a, kind in enumerate(self.ins):
-            last = self._sub(self._mul(self.n, _idx(kind.mem_bytes)), _idx(1))
-            for b in range(len(self.ins), len(self.ptrs)):
-                ahead = self._sub(self._sub(addr[b], addr[a]), _idx(1))
-                conds.append(self._cmp("ge", ahead, last, T.UINDEX))
-        return self._all(conds)
-
     # -- the vector loop -------------------------------------------------------------
-    def _vector_loop(self, exit_block):
-        em, W = self.em, self.width
-        # Per input: where its vector comes from and how far that moves per iteration.
-        srcs, incs = [], []
-        for k, kind in enumerate(self.ins):
-            splat = em.alloca(T.memory(VType(kind, W)), f"splat{k}")
-            scalar = ops.load(em, VType(kind, 1), self.ptrs[k], name=f"s{k}")
-            ops.store(em, VType(kind, W), em.splat(scalar, W), splat)
-            bcast = self._is_step(k, 0)
-            srcs.append(em.select(bcast, em.cast_pointer(splat, T.BYTE), self.ptrs[k], name=f"src{k}"))
-            incs.append(em.select(bcast, _idx(0), _idx(W * kind.mem_bytes), name=f"inc{k}"))
-        head, body = em.new_block("vec.cond"), em.new_block("vec.body")
-        slots = [em.alloca(T.BYTES, f"p{k}") for k in range(len(self.kinds))]
+    def _vector_loop(self, args, dims, steps, data, exit_block):
+        """W elements per iteration, from where ``reactor_prepare`` (the shared runtime) says:
+        each operand's start (an input's array, or a buffer holding its broadcast value W
+        times) and step, and how many elements the layout lets this loop do (0: none)."""
+        em, W, nargs = self.em, self.width, len(self.kinds)
+        sizes = em.alloca(INDEX, "sizes", count=nargs)
+        for k, kind in enumerate(self.kinds):
+            em.store(_idx(kind.mem_bytes), em.address(sizes, k))
+        srcs = em.alloca(T.BYTES, "srcs", count=nargs)
+        incs = em.alloca(INDEX, "incs", count=nargs)
+        splats = em.alloca(VType(T.BYTE_KIND, 16), "splats", count=max(1, len(self.ins) * W // 2))  # 8 bytes a lane
+        settings = em.load(em.field(em.cast_pointer(data, _CONFIG), 0), name="settings")
+        prepare = em.load(em.field(settings, 4), name="prepare")
+        n_fast = em.call_pointer(prepare, INDEX, PREPARE_PARAMS,
+                                 [args, dims, steps, _idx(len(self.ins)), _idx(nargs), sizes, _idx(W), srcs, incs,
+                                  em.cast_pointer(splats, T.BYTE)], name="n.fast")
+        slots = [em.alloca(T.BYTES, f"p{k}") for k in range(nargs)]
+        step_of = [em.load(em.address(incs, k), name=f"inc{k}") for k in range(nargs)]
         for k, slot in enumerate(slots):
-            em.store(srcs[k] if k < len(self.ins) else self.ptrs[k], slot)
+            em.store(em.load(em.address(srcs, k), name=f"src{k}"), slot)
+        head, body = em.new_block("vec.cond"), em.new_block("vec.body")
         em.branch(head)
         em.goto(head)
         i = em.load(self.i, name="i")
-        em.cbranch(self._cmp("le", self._add(i, _idx(W)), self.n), body, exit_block)
+        em.cbranch(self._cmp("lt", i, n_fast), body, exit_block)
         em.goto(body)
         i = em.load(self.i, name="i")
         ptrs = [em.load(slot, name=f"p{k}") for k, slot in enumerate(slots)]
@@ -200,8 +179,7 @@ class LoopEmitter:
         for j, (kind, value) in enumerate(zip(self.outs, results)):
             ops.store(em, VType(kind, W), value, ptrs[len(self.ins) + j])
         for k, (slot, p) in enumerate(zip(slots, ptrs)):
-            inc = incs[k] if k < len(self.ins) else _idx(W * self.kinds[k].mem_bytes)
-            em.store(em.address(p, inc, name=f"p{k}.next"), slot)
+            em.store(em.address(p, step_of[k], name=f"p{k}.next"), slot)
         em.store(self._add(i, _idx(W)), self.i)
         em.branch(head)
 
@@ -225,7 +203,7 @@ class LoopEmitter:
         xs = [ops.from_memory(em, VType(kind, 1), em.load(em.cast_pointer(addrs[k], T.memory(VType(kind, 1))),
                                                           align=1, name=f"in{k}"), name=f"x{k}")
               for k, kind in enumerate(self.ins)]
-        results = self._call(self.scalar_fn, xs, inline=None)
+        results = self._call(self.scalar_fn, xs, inline="always")
         for j, (kind, value) in enumerate(zip(self.outs, results)):
             vt = VType(kind, 1)
             em.store(ops.to_memory(em, vt, value), em.cast_pointer(addrs[len(self.ins) + j], T.memory(vt)), align=1)
@@ -246,11 +224,9 @@ def emit_dispatcher(module, name: str, serial) -> object:
     ``parallel.LoopConfig``; a call worth splitting (see ``parallel``) goes to the
     native ``reactor_parallel_for``, every other one straight to ``serial``."""
     em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES)
-    settings_t = T.StructType((INDEX, INDEX, INDEX, T.BYTES))
-    config_t = T.StructType((T.Address(settings_t), INDEX, INDEX))
     with em:
         args, dims, steps, data = em.params
-        cfg = em.cast_pointer(data, config_t, name="config")
+        cfg = em.cast_pointer(data, _CONFIG, name="config")
         settings = em.load(em.field(cfg, 0), name="settings")
         nargs, cycles = (em.load(em.field(cfg, k), name=n) for k, n in ((1, "nargs"), (2, "cycles")))
         threads, threshold, min_work = (em.load(em.field(settings, k), name=n)

@@ -57,7 +57,7 @@ class SettingsStruct(ctypes.Structure):
     """What every dispatcher reads at each call (one per process)."""
 
     _fields_ = [("threads", ctypes.c_int64), ("threshold", ctypes.c_int64), ("min_work", ctypes.c_int64),
-                ("parallel_for", ctypes.c_void_p)]
+                ("parallel_for", ctypes.c_void_p), ("prepare", ctypes.c_void_p)]
 
 
 class LoopConfig(ctypes.Structure):
@@ -86,7 +86,7 @@ def _default_threads() -> int:
         return os.cpu_count() or 1
 
 
-_settings = SettingsStruct(min(_default_threads(), MAX_THREADS), DEFAULT_THRESHOLD, DEFAULT_MIN_WORK, None)
+_settings = SettingsStruct(min(_default_threads(), MAX_THREADS), DEFAULT_THRESHOLD, DEFAULT_MIN_WORK, None, None)
 _lock = threading.Lock()
 
 
@@ -110,6 +110,7 @@ def make_config(nargs: int, cycles_per_element: float) -> LoopConfig:
     """The ``data`` block for one kernel loop (keep it alive as long as the ufunc)."""
     if _settings.parallel_for is None:
         _settings.parallel_for = runtime().address("reactor_parallel_for")
+        _settings.prepare = runtime().address("reactor_prepare")
     cycles = max(1, int(round(cycles_per_element * CYCLES_SCALE)))
     return LoopConfig(ctypes.pointer(_settings), nargs, cycles)
 
@@ -118,11 +119,14 @@ def make_config(nargs: int, cycles_per_element: float) -> LoopConfig:
 
 @functools.cache
 def runtime():
-    """The compiled ``reactor_parallel_for`` of this process (built once, cached on disk)."""
+    """The compiled runtime of this process (built once, cached on disk): ``reactor_parallel_for``
+    and ``reactor_prepare`` (every kernel's layout decisions, kept out of each kernel's code)."""
     build = BuildOptions(target="host", width=1).resolved()
     module = _em.ModuleEmitter("reactor.parallel", build)
     _emit_runtime(module)
-    return CompiledCode(module.text, build.target, build.opt, ("reactor_parallel_for",), build.cache)
+    _emit_prepare(module)
+    return CompiledCode(module.text, build.target, build.opt, ("reactor_parallel_for", "reactor_prepare"),
+                        build.cache)
 
 
 def _emit_runtime(module) -> None:
@@ -230,4 +234,104 @@ def _emit_runtime(module) -> None:
         em.branch(join_head)
         em.goto(end)
         em.ret(None)
+        em.finish()
+
+
+def _emit_prepare(module) -> None:
+    """``i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats)``: whether
+    a kernel's vector loop may run on this call's layout and from where. It may when every output is
+    contiguous, every input contiguous or broadcast (stride 0), and no output starts inside an
+    input's extent ahead of the input (``ufunc.accumulate`` passes ``out[i-1]`` as input ``i``; for
+    ordinary calls NumPy copies overlapping operands). Then it sets each operand's start
+    (``srcs``: the array, or for a broadcast input its value repeated ``width`` times in
+    ``splats``, 8 bytes a lane) and step in bytes (``incs``), and returns ``n`` rounded down to a
+    multiple of ``width``; otherwise 0."""
+    from .loop import PREPARE_PARAMS
+
+    bool1 = VType(KINDS["Bool"], 1)
+    idx = lambda v: T.const(INDEX, v)  # noqa: E731
+    names = ["args", "dims", "steps", "nin", "nargs", "sizes", "width", "srcs", "incs", "splats"]
+    em = _em.FunctionEmitter(module, "reactor_prepare", INDEX, PREPARE_PARAMS, names, width=1)
+
+    def loop(count, body, name):
+        """``for k in range(count): body(k)`` (``count`` an i64 value)."""
+        slot = em.alloca(INDEX, f"{name}.k")
+        em.store(idx(0), slot)
+        head, each, done = em.new_block(f"{name}.cond"), em.new_block(f"{name}.each"), em.new_block(f"{name}.done")
+        em.branch(head)
+        em.goto(head)
+        k = em.load(slot, name="k")
+        em.cbranch(ops.compare(em, INDEX, "lt", k, count), each, done)
+        em.goto(each)
+        body(k)
+        em.store(ops.binary(em, "add", INDEX, em.load(slot, name="k"), idx(1)), slot)
+        em.branch(head)
+        em.goto(done)
+
+    with em:
+        args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats = em.params
+        n = em.load(dims, name="n")
+        short, long_ = em.new_block("short"), em.new_block("long")
+        em.cbranch(ops.compare(em, INDEX, "lt", n, width), short, long_)  # no whole vector: read nothing
+        em.goto(short)
+        em.ret(idx(0))
+        em.goto(long_)
+        ok = em.alloca(bool1, "ok")
+        em.store(T.const(bool1, 1), ok)
+
+        def need(cond):
+            em.store(ops.binary(em, "and", bool1, em.load(ok, name="ok"), cond), ok)
+
+        def layout(k):
+            step, size = em.load(em.address(steps, k), name="step"), em.load(em.address(sizes, k), name="size")
+            contiguous = ops.compare(em, INDEX, "eq", step, size)
+            is_input = ops.compare(em, INDEX, "lt", k, nin)
+            broadcast = ops.binary(em, "and", bool1, is_input, ops.compare(em, INDEX, "eq", step, idx(0)))
+            need(ops.binary(em, "or", bool1, contiguous, broadcast))
+        loop(nargs, layout, "layout")
+
+        def apart(a):
+            start_a = em.convert("ptrtoint", em.load(em.address(args, a), name="in"), INDEX, name="a")
+            size_a = em.load(em.address(sizes, a), name="size")
+            last = ops.binary(em, "sub", INDEX, ops.binary(em, "mul", INDEX, n, size_a), idx(1))
+
+            def against(j):
+                b = ops.binary(em, "add", INDEX, j, nin)
+                start_b = em.convert("ptrtoint", em.load(em.address(args, b), name="out"), INDEX, name="b")
+                ahead = ops.binary(em, "sub", INDEX, ops.binary(em, "sub", INDEX, start_b, start_a), idx(1))
+                need(ops.compare(em, T.UINDEX, "ge", ahead, last))
+            loop(ops.binary(em, "sub", INDEX, nargs, nin), against, "outputs")
+        loop(nin, apart, "inputs")
+
+        fits, none = em.new_block("fits"), em.new_block("none")
+        em.cbranch(em.load(ok, name="ok"), fits, none)
+        em.goto(none)
+        em.ret(idx(0))
+        em.goto(fits)
+        lane_bytes = 8
+
+        def where(k):
+            step, size = em.load(em.address(steps, k), name="step"), em.load(em.address(sizes, k), name="size")
+            arg = em.load(em.address(args, k), name="arg")
+            buffer = em.address(splats, ops.binary(em, "mul", INDEX, k, ops.binary(em, "mul", INDEX, width,
+                                                                                      idx(lane_bytes))), name="buf")
+            broadcast, contiguous_b, done = em.new_block("bcast"), em.new_block("contig"), em.new_block("set")
+            em.cbranch(ops.binary(em, "and", bool1, ops.compare(em, INDEX, "lt", k, nin),
+                                  ops.compare(em, INDEX, "eq", step, idx(0))), broadcast, contiguous_b)
+            em.goto(broadcast)
+
+            def byte(j):  # buffer[j] = arg[j % size]
+                src = em.address(arg, ops.binary(em, "rem", INDEX, j, size))
+                em.store(em.load(src, name="byte"), em.address(buffer, j))
+            loop(ops.binary(em, "mul", INDEX, width, size), byte, "splat")
+            em.store(buffer, em.address(srcs, k))
+            em.store(idx(0), em.address(incs, k))
+            em.branch(done)
+            em.goto(contiguous_b)
+            em.store(arg, em.address(srcs, k))
+            em.store(ops.binary(em, "mul", INDEX, width, size), em.address(incs, k))
+            em.branch(done)
+            em.goto(done)
+        loop(nargs, where, "where")
+        em.ret(ops.binary(em, "and", INDEX, n, ops.unary(em, "neg", INDEX, width)))
         em.finish()
