@@ -195,11 +195,15 @@ def main(argv=None):
     names = [f"routines:{n}" for n in ("exp2", "log2", "pow", "exp", "log", "rcp", "rsqrt", "sqrt")] + \
         ["examples:gamma", "examples:specular", "examples:tonemap", "pbr"]
     for name in names:
-        cache.memory_clear()
-        if name.startswith("routines:"):
-            import routines
-            routines.kernels._build.cache_clear()
-        seconds, made = build_named(name)
+        times = []
+        for _ in range(repeats):
+            cache.memory_clear()
+            if name.startswith("routines:"):
+                import routines
+                routines.kernels._build.cache_clear()
+            seconds, made = build_named(name)
+            times.append(seconds)
+        seconds = statistics.median(times)
         results["named"].append({"name": name, "kernels": len(made), "cold_ms": 1e3 * seconds})
         jobs.append(("named", name))
         print(f"{name:18s} cold {1e3 * seconds:8.1f} ms ({len(made)} kernel{'s' * (len(made) > 1)})", flush=True)

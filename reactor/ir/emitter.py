@@ -73,6 +73,7 @@ class ModuleEmitter:
         self.functions: dict[object, ir.Function] = {}
         self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
         self.import_libraries: dict[str, str | None] = {}  # external symbol -> its library
+        self._text: str | None = None
         self.written: dict[object, frozenset] = {}  # (Function, width) -> pointer parameters it stores to
 
     def unique_name(self, base: str) -> str:
@@ -95,8 +96,10 @@ class ModuleEmitter:
 
     @property
     def text(self) -> str:
-        """The module's IR as text."""
-        return str(self.module)
+        """The module's IR as text (serialized once, when first asked for)."""
+        if self._text is None:
+            self._text = str(self.module)
+        return self._text
 
     @staticmethod
     def instruction_count(fn) -> int:

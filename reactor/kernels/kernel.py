@@ -30,6 +30,7 @@ is given.
 from __future__ import annotations
 
 import ctypes
+import gc
 import threading
 import typing
 import weakref
@@ -77,11 +78,18 @@ class Kernel(ShowsCode):
     def _module(self, body) -> tuple[_em.ModuleEmitter, float]:
         """Trace ``body`` into its module: the bodies, the loop and the dispatcher."""
         build, name, ins, outs = self.build, self.name, self.in_kinds, self.out_kinds
-        module = _em.ModuleEmitter(name, build)
-        vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
-        scalar = emit_body(module, name, body, ins, outs, 1)
-        serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width).emit()
-        emit_dispatcher(module, f"{name}.ufunc", serial)
+        collecting = gc.isenabled()
+        gc.disable()  # tracing makes many objects and frees none: collections there cost, find nothing
+        try:
+            module = _em.ModuleEmitter(name, build)
+            vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
+            scalar = emit_body(module, name, body, ins, outs, 1)
+            serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width).emit()
+            emit_dispatcher(module, f"{name}.ufunc", serial)
+            module.text  # noqa: B018 - serialized here, once, still without collections
+        finally:
+            if collecting:
+                gc.enable()
         return module, estimated_cycles(vector or scalar, build.width if vector else 1)
 
     def _recipe(self, body, signature) -> str | None:
