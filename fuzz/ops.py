@@ -122,6 +122,13 @@ def _copysign(args, tys, node, ctx):
 
 
 def _fract(args, tys, node, ctx):
+    """GLSL's fract: x - floor(x), the float32 subtraction rounded to nearest."""
+    (x,) = args
+    with np.errstate(all="ignore"):
+        return (x - np.floor(x)).astype(np.float32), None
+
+
+def _reduce_down(args, tys, node, ctx):
     """x - floor(x) rounded toward -inf (VREDUCEPS): from the float64 difference, which is
     exact unless -2^-29 < x < 0, where the answer is the float just below 1."""
     (x,) = args
@@ -354,6 +361,7 @@ _SPECS = [
     Spec("round", 1, FLOATS, "same", _intr("Round", 1), lambda a, t, n, ctx: (np.rint(a[0]), None)),
     Spec("sqrt", 1, FLOATS, "same", _intr("Sqrt", 1), lambda a, t, n, ctx: (np.sqrt(a[0]), None)),
     Spec("fract", 1, frozenset({"Float"}), "same", _intr("Fract", 1), _fract),
+    Spec("reducedown", 1, frozenset({"Float"}), "same", _intr("ReduceDown", 1), _reduce_down),
     Spec("exponent", 1, frozenset({"Float"}), "same", _intr("Exponent", 1), _exponent),
     Spec("significand", 1, frozenset({"Float"}), "same", _intr("Significand", 1), _significand),
     Spec("isnan", 1, FLOATS, "bool", _intr("IsNan", 1), lambda a, t, n, ctx: (np.isnan(a[0]), None)),
@@ -386,7 +394,7 @@ OPS: dict[str, Spec] = {s.name: s for s in _SPECS}
 
 BINARY_ARITH = ("add", "sub", "mul", "div", "rem", "and", "or", "xor", "shl", "shr", "lshr", "ashr",
                 "min", "max", "minnum", "maxnum", "copysign")
-UNARY_ARITH = ("neg", "invert", "abs", "floor", "ceil", "trunc", "round", "sqrt", "fract", "exponent",
+UNARY_ARITH = ("neg", "invert", "abs", "floor", "ceil", "trunc", "round", "sqrt", "fract", "reducedown", "exponent",
                "significand")
 COMPARES = ("lt", "le", "gt", "ge", "eq", "ne")
 CLASSIFY = ("isnan", "isinf", "isfinite")

@@ -13,7 +13,7 @@ from .dsl.control import Elif, Else, For, If, Return, While
 from .dsl.external import External
 from .dsl.intrinsics import (
     Abs, All, Any, As, Ceil, CopySign, Exponent, Extract, Floor, Fma, Fract, Insert, IsFinite,
-    IsInf, IsNan, LaneIndex, LRint, Max, MaxNum, Min, MinNum, MulAdd, RcpApprox, ReduceNearest, Round,
+    IsInf, IsNan, LaneIndex, LRint, Max, MaxNum, Min, MinNum, MulAdd, RcpApprox, ReduceDown, ReduceNearest, Round,
     RsqrtApprox, ScaleF, Select, Significand, ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc,
     build_settings, fma_mode, precision, target_features,
 )
@@ -57,7 +57,7 @@ __all__ = [
     # intrinsics
     "Abs", "All", "Any", "As", "Ceil", "CopySign", "Exponent", "Extract", "Floor", "Fma", "Fract", "Insert",
     "IsFinite", "IsInf", "IsNan", "LaneIndex", "LRint", "Max", "MaxNum", "Min", "MinNum", "MulAdd", "RcpApprox",
-    "ReduceNearest", "Round", "RsqrtApprox", "ScaleF", "Select", "Significand", "ShiftRightArithmetic",
+    "ReduceDown", "ReduceNearest", "Round", "RsqrtApprox", "ScaleF", "Select", "Significand", "ShiftRightArithmetic",
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
     "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of",

@@ -26,7 +26,7 @@ because f = 0 there and y = k exactly.
 from __future__ import annotations
 
 import reactor
-from reactor import As, Fract, Min, MulAdd, Precision, Select, ToInt, fma_mode, vector_type
+from reactor import As, Min, MulAdd, Precision, ReduceDown, Select, ToInt, fma_mode, vector_type
 
 from .base import float_value, routine
 from .polynomials import EXP2_FULL, EXP2_RELAXED
@@ -63,7 +63,7 @@ def fix_specials(x, f, r):
 def exp2(x, precision: Precision = Precision.FULL):
     """2^x for Float values of any width; see the module docstring."""
     x = float_value(x, "exp2")
-    f = Fract(x)
+    f = ReduceDown(x)
     if precision is Precision.FULL:
         y = MulAdd(EXP2_FULL(f), f, x)
         r = insert_exponent(y, float_trick=False)

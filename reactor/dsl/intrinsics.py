@@ -277,26 +277,35 @@ def RsqrtApprox(x: Value) -> Value:
     return value_class(x.vtype)._wrap(x86.estimate(em, "rsqrt", x.vtype, x.ir, _features()), em)
 
 
-def Fract(x: Value) -> Value:
-    """``x - Floor(x)`` in [0, 1) for finite ``x`` (one AVX-512DQ VREDUCEPS).
+def ReduceDown(x: Value) -> Value:
+    """``x - Floor(x)`` rounded toward -inf, so always in [0, 1) for finite ``x``
+    (one AVX-512DQ VREDUCEPS, imm 1; the same bits elsewhere).
 
-    The difference is rounded toward -inf, as VREDUCEPS does (its rounding
-    control, "down", applies to the subtraction too): it is exact except for
-    -0.5 < x < 0, where the result is the float just below 1 + x (never 1; at
-    most 1 - 2^-24), and an exact zero is -0.0 (integral ``x``).
-    ``Fract(±inf) = +0``, ``Fract(NaN) = NaN``. The portable path computes the
-    same bits: the difference rounded to nearest, its rounding error (exact,
-    by Fast2Sum, where it is not zero), then one step down if it rounded up."""
-    _require_float("Fract", x)
+    The rounding control of VREDUCEPS ("down") applies to the subtraction too: the
+    result is exact except for -0.5 < x < 0, where it is the float just below 1 + x
+    (never 1; at most 1 - 2^-24), and an exact zero is -0.0 (integral ``x``).
+    ``ReduceDown(±inf) = +0``, ``ReduceDown(NaN) = NaN``. The portable path computes
+    the same bits: the difference rounded to nearest, its rounding error (exact, by
+    Fast2Sum, where it is not zero), then one step down if it rounded up. (exp2
+    reduces its argument with it; GLSL's ``fract`` is ``Fract``.)"""
+    _require_float("ReduceDown", x)
     natives = x86.avx512_natives(_features(), "reduce", imm=1, need="avx512dq")
     if natives:
-        return _native("fract", x, natives)
+        return _native("reduce", x, natives)
     f = Floor(x)
     s = x - f
     below = As(vector_type("Float", x.width), As(vector_type("Int", x.width), s) - 1)  # s > 0 where used
     r = Select(x - (s + f) < 0.0, below, s)  # rounded up: take the float below
     r = Select(s == 0.0, -0.0, r)
-    return Select(IsInf(x), 0.0, r).named("fract")
+    return Select(IsInf(x), 0.0, r).named("reduce")
+
+
+def Fract(x: Value) -> Value:
+    """GLSL's ``fract``: exactly ``x - Floor(x)``, the subtraction rounded to nearest. So
+    ``Fract(-1e-9) = 1.0`` (as GLSL gives), integers give +0, ``Fract(±inf) = NaN``."""
+    if not isinstance(x, Value) or not x.kind.is_float:
+        raise DSLTypeError(f"Fract is defined for Float and Double values (any width), not {x!r}")
+    return (x - Floor(x)).named("fract")
 
 
 _MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000

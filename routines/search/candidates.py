@@ -7,7 +7,7 @@ off and, for exp2, how ``y`` is converted to the result's bits. It builds
 the whole routine (special values included, as the library's routines do)
 as a DSL builder and compiles it with ``reactor.kernel``.
 
-Forms (``f = Fract(x)``, ``m = Significand(x) - 1``, ``e = Exponent(x)``):
+Forms (``f = ReduceDown(x)``, ``m = Significand(x) - 1``, ``e = Exponent(x)``):
 
 exp2 (the result's bits are ``int(y * 2^23) + (127 << 23)``, clamped to +inf
 as unsigned, +0 below -126, NaN for NaN -- the production structure):
@@ -33,7 +33,7 @@ handled: no clamp, no exponent insertion, no special-value fix-up):
 ``scalefmul``   ``scalef(P(f) * f + 1, x)``, P ~ (2^f - 1)/f: the reference's
                 multiplicative form ("Watch your Weight"), one add fewer.
 
-Rounding the *rounded* f = Fract(x) (inexact for x in (-1/2, 0)) costs up to
+Rounding the *rounded* f = ReduceDown(x) (inexact for x in (-1/2, 0)) costs up to
 0.7 ULP in these three; the additive forms absorb it (y adds the exact x).
 Round-to-nearest reduction has no such error and no overflow with VSCALEFPS
 (the reference rejected it because 2^round(x) overflows at x = 127.5 when
@@ -82,7 +82,7 @@ import itertools
 
 import numpy as np
 
-from reactor import (As, Exponent, Float, Floor, Fract, LRint, Min, MulAdd, ReduceNearest, ScaleF, Select,
+from reactor import (As, Exponent, Float, Floor, LRint, Min, MulAdd, ReduceDown, ReduceNearest, ScaleF, Select,
                      Significand, ToInt, fma_mode, kernel, vector_type)
 
 from ..base import PRECISIONS
@@ -359,7 +359,7 @@ def _build_exp2(c: Candidate, x):
         else:
             p = MulAdd(_poly(c, f), f, 1.0)
         return ScaleF(p, k)
-    f = Fract(x)
+    f = ReduceDown(x)
     if c.form.startswith("scalef"):
         if c.form == "scalef":
             p = MulAdd(_poly(c, f), f, f) + 1.0

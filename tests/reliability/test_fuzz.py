@@ -17,7 +17,7 @@ from fuzz import check, fuzz, parse, program_for, programs, source
 from fuzz.generate import op_sweep
 from fuzz.ops import _round_to_odd_f32
 from fuzz.runner import differ, make_data
-from reactor import Float, Fract, kernel
+from reactor import Float, Fract, ReduceDown, kernel
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -138,11 +138,11 @@ def test_fuzz_command_reports_and_survives_a_crash():
 
 # -- regressions: every mismatch a fuzz run found -------------------------------------------
 
-# Found by `python -m fuzz --seed 7` (program 142): Fract on the host (AVX-512DQ
-# VREDUCEPS, whose "round down" control also rounds the subtraction) differed from the
-# portable emulation (rounded to nearest) for -0.5 < x < 0, and gave -0.0 for integers.
-# Fixed in reactor/dsl/intrinsics.py: the emulation now rounds toward -inf too.
-FRACT_142 = """Program(mode='function', inputs=(Ty(kind='Int', scalar=False), Ty(kind='Float', scalar=False), Ty(kind='Float', scalar=False)), body=(Var(name='v1', ty=Ty(kind='Int', scalar=False), init=Op(name='add', args=(Arg(index=0, ty=Ty(kind='Int', scalar=False)), Const(value=16, ty=Ty(kind='Int', scalar=True), literal=True)), ty=Ty(kind='Int', scalar=False), param=None)), Var(name='v2', ty=Ty(kind='Float', scalar=False), init=Op(name='sub', args=(Const(value=5.877471754111438e-39, ty=Ty(kind='Float', scalar=True), literal=False), Const(value=0, ty=Ty(kind='Float', scalar=True), literal=True)), ty=Ty(kind='Float', scalar=True), param=None)), Let(name='t3', expr=Op(name='mul', args=(Const(value=3.4028234663852886e+38, ty=Ty(kind='Float', scalar=True), literal=False), Op(name='bitcast', args=(Const(value=0, ty=Ty(kind='UInt', scalar=True), literal=False),), ty=Ty(kind='Float', scalar=True), param='Float')), ty=Ty(kind='Float', scalar=True), param=None)), Set(name='v2', expr=Op(name='fract', args=(Op(name='max', args=(Const(value=-2385920.0, ty=Ty(kind='Float', scalar=True), literal=True), Arg(index=2, ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None),), ty=Ty(kind='Float', scalar=False), param=None)), If(cond=Op(name='ne', args=(Op(name='max', args=(Const(value=31, ty=Ty(kind='Int', scalar=True), literal=True), Const(value=31, ty=Ty(kind='Int', scalar=True), literal=False)), ty=Ty(kind='Int', scalar=True), param=None), Const(value=691194471, ty=Ty(kind='Int', scalar=True), literal=False)), ty=Ty(kind='Bool', scalar=True), param=None), then=(For(name='i4', start=Const(value=-2, ty=Ty(kind='Int', scalar=True), literal=True), stop=Const(value=5, ty=Ty(kind='Int', scalar=True), literal=True), step=1, body=(Let(name='t5', expr=Op(name='div', args=(Op(name='max', args=(Ref(name='t3', ty=Ty(kind='Float', scalar=True)), Lanes(values=(0.0, -3.4028234663852886e+38, -0.0, -5172.0, -2147483648.0, 3.0, 4294967040.0, 5940.0, inf, 4294967296.0, 16777216.0, 1308.0, 0.4999999701976776, 1.1754943508222875e-38, 0.0, 255.0), ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None), Op(name='sub', args=(Arg(index=2, ty=Ty(kind='Float', scalar=False)), Ref(name='v2', ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None)), ty=Ty(kind='Float', scalar=False), param=None)),)),), elifs=((Const(value=True, ty=Ty(kind='Bool', scalar=True), literal=False), (Let(name='t6', expr=Op(name='convert', args=(Lanes(values=(4294967296.0, -2.7185775851867877e-06, 2.5, 1e+300, 456.924521103967, 2.5, -2.582224821155721e-06, 60699.20244675875, -0.0, 2.5, 4294967296.0, nan, 0.1, 1.585377974441804e-06, 2.2250738585072014e-308, 1e+300), ty=Ty(kind='Double', scalar=False)),), ty=Ty(kind='Bool', scalar=False), param='Bool')),)),), orelse=(Set(name='v2', expr=Op(name='min', args=(Op(name='min', args=(Ref(name='t3', ty=Ty(kind='Float', scalar=True)), Arg(index=2, ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None), Const(value=2147483520.0, ty=Ty(kind='Float', scalar=True), literal=True)), ty=Ty(kind='Float', scalar=False), param=None)),))), outputs=(Ref(name='v1', ty=Ty(kind='Int', scalar=False)), Ref(name='v2', ty=Ty(kind='Float', scalar=False))), fma=False, opt=1, target='host')"""  # noqa: E501
+# Found by `python -m fuzz --seed 7` (program 142): Fract (now ReduceDown) on the host
+# (AVX-512DQ VREDUCEPS, whose "round down" control also rounds the subtraction) differed
+# from the portable emulation (rounded to nearest) for -0.5 < x < 0, and gave -0.0 for
+# integers. Fixed in reactor/dsl/intrinsics.py: the emulation rounds toward -inf too.
+FRACT_142 = """Program(mode='function', inputs=(Ty(kind='Int', scalar=False), Ty(kind='Float', scalar=False), Ty(kind='Float', scalar=False)), body=(Var(name='v1', ty=Ty(kind='Int', scalar=False), init=Op(name='add', args=(Arg(index=0, ty=Ty(kind='Int', scalar=False)), Const(value=16, ty=Ty(kind='Int', scalar=True), literal=True)), ty=Ty(kind='Int', scalar=False), param=None)), Var(name='v2', ty=Ty(kind='Float', scalar=False), init=Op(name='sub', args=(Const(value=5.877471754111438e-39, ty=Ty(kind='Float', scalar=True), literal=False), Const(value=0, ty=Ty(kind='Float', scalar=True), literal=True)), ty=Ty(kind='Float', scalar=True), param=None)), Let(name='t3', expr=Op(name='mul', args=(Const(value=3.4028234663852886e+38, ty=Ty(kind='Float', scalar=True), literal=False), Op(name='bitcast', args=(Const(value=0, ty=Ty(kind='UInt', scalar=True), literal=False),), ty=Ty(kind='Float', scalar=True), param='Float')), ty=Ty(kind='Float', scalar=True), param=None)), Set(name='v2', expr=Op(name='reducedown', args=(Op(name='max', args=(Const(value=-2385920.0, ty=Ty(kind='Float', scalar=True), literal=True), Arg(index=2, ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None),), ty=Ty(kind='Float', scalar=False), param=None)), If(cond=Op(name='ne', args=(Op(name='max', args=(Const(value=31, ty=Ty(kind='Int', scalar=True), literal=True), Const(value=31, ty=Ty(kind='Int', scalar=True), literal=False)), ty=Ty(kind='Int', scalar=True), param=None), Const(value=691194471, ty=Ty(kind='Int', scalar=True), literal=False)), ty=Ty(kind='Bool', scalar=True), param=None), then=(For(name='i4', start=Const(value=-2, ty=Ty(kind='Int', scalar=True), literal=True), stop=Const(value=5, ty=Ty(kind='Int', scalar=True), literal=True), step=1, body=(Let(name='t5', expr=Op(name='div', args=(Op(name='max', args=(Ref(name='t3', ty=Ty(kind='Float', scalar=True)), Lanes(values=(0.0, -3.4028234663852886e+38, -0.0, -5172.0, -2147483648.0, 3.0, 4294967040.0, 5940.0, inf, 4294967296.0, 16777216.0, 1308.0, 0.4999999701976776, 1.1754943508222875e-38, 0.0, 255.0), ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None), Op(name='sub', args=(Arg(index=2, ty=Ty(kind='Float', scalar=False)), Ref(name='v2', ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None)), ty=Ty(kind='Float', scalar=False), param=None)),)),), elifs=((Const(value=True, ty=Ty(kind='Bool', scalar=True), literal=False), (Let(name='t6', expr=Op(name='convert', args=(Lanes(values=(4294967296.0, -2.7185775851867877e-06, 2.5, 1e+300, 456.924521103967, 2.5, -2.582224821155721e-06, 60699.20244675875, -0.0, 2.5, 4294967296.0, nan, 0.1, 1.585377974441804e-06, 2.2250738585072014e-308, 1e+300), ty=Ty(kind='Double', scalar=False)),), ty=Ty(kind='Bool', scalar=False), param='Bool')),)),), orelse=(Set(name='v2', expr=Op(name='min', args=(Op(name='min', args=(Ref(name='t3', ty=Ty(kind='Float', scalar=True)), Arg(index=2, ty=Ty(kind='Float', scalar=False))), ty=Ty(kind='Float', scalar=False), param=None), Const(value=2147483520.0, ty=Ty(kind='Float', scalar=True), literal=True)), ty=Ty(kind='Float', scalar=False), param=None)),))), outputs=(Ref(name='v1', ty=Ty(kind='Int', scalar=False)), Ref(name='v2', ty=Ty(kind='Float', scalar=False))), fma=False, opt=1, target='host')"""  # noqa: E501
 
 
 @pytest.mark.parametrize("target", ["host", "avx2", "sse4"])
@@ -150,7 +150,7 @@ def test_regression_fract_program_142(target):
     _ok(check(dataclasses.replace(parse(FRACT_142), target=target), seed=[7, 142]))
 
 
-def test_regression_fract_rounds_down_on_every_target(rng):
+def test_regression_reduce_down_rounds_down_on_every_target(rng):
     x = np.concatenate([
         np.array([-0.0020342148, -1e-9, -1e-45, -0.49999997, -0.5, -0.75, -3.0, 3.0, 0.0, -0.0, 2.0**23 + 1,
                   -5.3, np.inf, -np.inf, np.nan], np.float32),
@@ -159,9 +159,9 @@ def test_regression_fract_rounds_down_on_every_target(rng):
     got = {}
     for target in ("host", "avx512", "avx2", "sse4"):
         for width in (1, 16):
-            @kernel(target=target, width=width, name=f"fract_{target}_{width}", cache=False)
+            @kernel(target=target, width=width, name=f"reduce_down_{target}_{width}", cache=False)
             def fr(x: Float) -> Float:
-                return Fract(x)
+                return ReduceDown(x)
             got[target, width] = fr(x)
     with np.errstate(all="ignore"):
         x64 = x.astype(np.float64)
@@ -186,3 +186,16 @@ def test_regression_let_of_a_variable_is_a_snapshot():
         A.Set("v", A.Op("sub", (A.Ref("v", f), A.Ref("t", f)), f)),
     ), (A.Ref("v", f),))
     _ok(check(program))
+
+
+def test_fract_is_glsl_fract_on_every_target(rng):
+    """GLSL's fract(x) = x - floor(x): Fract(-1e-9) is 1.0 (ReduceDown gives 1 - 2^-24)."""
+    x = np.concatenate([np.array([-1e-9, -0.5, 0.25, -3.0, 3.0, -0.0, 1e30, -1e-45], np.float32),
+                        make_data("Float", rng, 4096)])
+    with np.errstate(all="ignore"):
+        want = (x - np.floor(x)).astype(np.float32)
+    for target in ("host", "avx2", "sse4"):
+        fr = kernel(lambda v: Fract(v), args=[Float], returns=Float, name=f"glsl_fract_{target}", target=target)
+        got = fr(x)
+        assert differ(got, want, np.zeros(x.size, bool)).size == 0, target
+    assert fr(np.float32(-1e-9)) == 1.0
