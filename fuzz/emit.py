@@ -55,7 +55,8 @@ class Emitter:
             if isinstance(s, Let):
                 self.env[s.name] = snapshot(self.expr(s.expr))
             elif isinstance(s, Var):
-                self.env[s.name] = reactor.Variable(dsl_type(s.ty), self.expr(s.init), name=s.name)
+                self.env[s.name] = reactor.Variable(dsl_type(s.ty), self.expr(s.init), name=s.name,
+                                                    uniform=s.ty.scalar)
             elif isinstance(s, Set):
                 self.env[s.name].set(self.expr(s.expr))
             elif isinstance(s, If):
@@ -72,7 +73,7 @@ class Emitter:
                     self.env[s.name] = i
                     self.block(s.body)
             elif isinstance(s, While):
-                k = self.env[s.counter] = reactor.Variable(reactor.Int, 0, name=s.counter)
+                k = self.env[s.counter] = reactor.Variable(reactor.Int, 0, name=s.counter, uniform=True)
 
                 def test(s=s, k=k):
                     c = k < self.expr(s.bound)

@@ -9,7 +9,7 @@ functions called from Python) and ``kernels`` (compiled loops as NumPy ufuncs).
 import typing as _typing
 
 from .build import Build, BuildOptions, Precision, options
-from .dsl.control import Elif, Else, For, If, Return, While
+from .dsl.control import Break, Continue, Elif, Else, For, If, Return, While
 from .dsl.external import External
 from .dsl.intrinsics import (
     Abs, All, Any, As, Ceil, CopySign, Exponent, Extract, Floor, Fma, Fract, Insert, IsFinite,
@@ -18,10 +18,13 @@ from .dsl.intrinsics import (
     build_settings, fma_mode, precision, target_features,
 )
 from .dsl.signature import SIMD, Pointer
-from .dsl.values import Value, vector_type
+from .dsl.values import Value, set_power, vector_type
+from .dsl.vectors import Mat, Vec, mat_type, vec_type
+from .dsl.vectors import (bvec2, bvec3, bvec4, dvec2, dvec3, dvec4, ivec2, ivec3, ivec4, mat2, mat3,  # noqa: F401
+                          mat4, uvec2, uvec3, uvec4, vec2, vec3, vec4)
 from .dsl.variables import Variable, is_variable
 from .errors import (
-    ArgumentError, ArityError, CompileError, ControlFlowError, DSLTypeError, FmaDisabledError,
+    ArgumentError, ArityError, CompileError, ControlFlowError, DSLTypeError, FmaDisabledError, LoopLimitError,
     MissingReturnError, ReactorError, ScopeError, WidthMismatchError, hide_frames_of,
 )
 from .ir.types import KINDS, WIDTHS
@@ -50,10 +53,12 @@ __all__ = [
     "Build", "BuildOptions", "Precision", "options", "build_settings", "fma_mode", "precision", "target_features",
     "Target", "TARGETS", "get_target", "WIDTHS", "KINDS",
     # values, types, variables, pointers
-    "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable",
+    "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable", "set_power",
+    "Vec", "Mat", "vec_type", "mat_type", "vec2", "vec3", "vec4", "dvec2", "dvec3", "dvec4", "ivec2", "ivec3",
+    "ivec4", "uvec2", "uvec3", "uvec4", "bvec2", "bvec3", "bvec4", "mat2", "mat3", "mat4",
     *(f"{kind}{'' if w == 1 else w}" for kind in ("Float", "Double", "Int", "UInt", "Bool") for w in WIDTHS),
     # control flow
-    "If", "Elif", "Else", "While", "For", "Return",
+    "If", "Elif", "Else", "While", "For", "Return", "Break", "Continue",
     # intrinsics
     "Abs", "All", "Any", "As", "Ceil", "CopySign", "Exponent", "Extract", "Floor", "Fma", "Fract", "Insert",
     "IsFinite", "IsInf", "IsNan", "LaneIndex", "LRint", "Max", "MaxNum", "Min", "MinNum", "MulAdd", "RcpApprox",
@@ -63,6 +68,6 @@ __all__ = [
     "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of",
     "configure_threads", "thread_settings",
     # errors
-    "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "MissingReturnError",
+    "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError", "MissingReturnError",
     "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",
 ]

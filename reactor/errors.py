@@ -28,17 +28,23 @@ def library_dirs() -> tuple[str, ...]:
     return tuple(_LIBRARY_DIRS)
 
 
-def user_location() -> tuple[str, int] | None:
-    """Return ``(filename, lineno)`` of the innermost frame outside the library."""
+def user_frame() -> types.FrameType | None:
+    """The innermost frame outside the library (the user's code)."""
     frame: types.FrameType | None = sys._getframe(1)
     dirs = tuple(_LIBRARY_DIRS)
     while frame is not None:
         name = frame.f_code.co_filename
         filename = os.path.abspath(name)
         if not filename.startswith(dirs) and "importlib" not in filename and not name.startswith("<frozen"):
-            return name, frame.f_lineno
+            return frame
         frame = frame.f_back
     return None
+
+
+def user_location() -> tuple[str, int] | None:
+    """Return ``(filename, lineno)`` of the innermost frame outside the library."""
+    frame = user_frame()
+    return None if frame is None else (frame.f_code.co_filename, frame.f_lineno)
 
 
 def return_location(body) -> tuple[str, int] | None:
@@ -92,6 +98,10 @@ class ControlFlowError(ReactorError):
 
 class MissingReturnError(ControlFlowError):
     """A function with a return type can reach its end without ``Return``."""
+
+
+class LoopLimitError(ReactorError, RuntimeError):
+    """A loop given ``max_iterations=N`` ran N iterations and was stopped (raised by the call)."""
 
 
 class ArityError(ReactorError, TypeError):

@@ -75,3 +75,21 @@ def returns_in_blocks(code):
         if isinstance(node, ast.Return) and block:
             return (code.co_filename, start + node.lineno - 1), block
     return None
+
+
+def with_block_calls(code, line: int) -> set[str] | None:
+    """The names called inside the ``with`` statement at ``line`` of ``code``'s body (its own
+    statements and nested blocks, not nested functions), or None if the source is unavailable."""
+    parsed = body_tree(code)
+    if parsed is None:
+        return None
+    fn, start = parsed
+    for node, _ in walk(fn):
+        if isinstance(node, ast.With) and start + node.lineno - 1 == line:
+            names = set()
+            for child, _ in walk(node):
+                if isinstance(child, ast.Call):
+                    f = child.func
+                    names.add(f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else "")
+            return names
+    return None

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 import os
+import typing
 
 import reactor
 from reactor import DSLTypeError, Float, Precision, Value, fma_mode
@@ -44,10 +45,11 @@ def check_precision(precision, routine: str) -> Precision:
         raise reactor.ReactorError(f"{routine}: precision must be {names}, not {precision!r}") from None
 
 
-def routine(fn):
+def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
     """Decorate a builder ``fn(x..., precision)``: validate, then emit under the FMA override."""
     @functools.wraps(fn)
-    def build(*args, precision=None, fma: bool | None = None, **kwargs):
+    def build(*args: typing.Any, precision: typing.Any = None, fma: bool | None = None,
+              **kwargs: typing.Any) -> Value:
         level = check_precision(precision, fn.__name__)
         with fma_mode(fma), reactor.precision(level):
             return fn(*args, precision=level, **kwargs)

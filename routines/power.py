@@ -23,6 +23,7 @@ docs/accuracy.md for the derivation used by the accuracy lab.
 """
 from __future__ import annotations
 
+import reactor
 from reactor import Precision
 
 from .base import float_value, routine
@@ -36,3 +37,6 @@ def pow(x, y, precision: Precision = Precision.FULL):  # noqa: A001 - the routin
     x = float_value(x, "pow", "x")
     y = float_value(y, "pow", "y")
     return exp2(y * log2(x, precision=precision), precision=precision).named("pow")
+
+
+reactor.set_power(pow)  # x ** y in the DSL, for a y other than a small whole number

@@ -1,8 +1,8 @@
-"""Run-time control flow as context managers, as in Reactor.
+"""Run-time control flow as context managers, as in Reactor, uniform or per lane.
 
 ::
 
-    with If(x < 0.0):
+    with If(x < 0.0):            # a scalar Bool: a branch; a mask: per lane
         y.set(-x)
     with Elif(x > 1.0):
         y.set(1.0)
@@ -11,26 +11,36 @@
 
     with For(0, n) as i:        # i: Int counter, start <= i < stop, step +1
         ...
+        with If(done):
+            Break()             # per lane when `done` is a mask
     with While(lambda: k < 10): # the condition is re-evaluated every iteration
         k += 1
 
-Conditions are scalar ``Bool`` values (reduce masks with ``Any``/``All``).
-Plain Python ``if``/``for`` run at build time and specialize or unroll the
-emitted code. ``Return(v)`` returns from the function being built.
+A scalar ``Bool`` condition branches. A mask (a Bool of several lanes) runs
+the block for the lanes whose bit is set (ISPC's execution mask; see
+``reactor.dsl.lanes``): Variables change only in those lanes, a block no lane
+enters is skipped, a loop runs while any lane is in it, ``Break``,
+``Continue`` and ``Return`` act per lane, and ``max_iterations=`` stops a
+loop that some lane never leaves. Plain Python ``if``/``for`` run at build
+time and specialize or unroll the emitted code.
 """
 from __future__ import annotations
 
 import typing
 from typing import Callable
 
-from ..errors import ControlFlowError, DSLTypeError, ScopeError, user_location
+from ..errors import ControlFlowError, DSLTypeError, ScopeError, user_frame, user_location
 from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import KINDS, VType
-from ..source import returns_in_blocks
+from ..source import returns_in_blocks, with_block_calls
+from .intrinsics import Any, Select
+from .lanes import Frame, LoopLanes, is_varying, lanes_of
 from .values import Operand, Value, common_type, to_ir, value_class
 from .variables import Variable
+
+_LANE_EXITS = {"Break", "Continue", "Return"}
 
 
 def _condition(cond, what: str):
@@ -38,11 +48,23 @@ def _condition(cond, what: str):
         raise DSLTypeError(f"{what} got a Python bool: that is decided at build time; "
                            f"use a plain Python 'if' instead")
     if not isinstance(cond, Value) or cond.kind.category != "bool":
-        raise DSLTypeError(f"{what} needs a scalar Bool condition, not {cond!r}")
+        raise DSLTypeError(f"{what} needs a Bool condition (a scalar, or a mask of the body's lanes), "
+                           f"not {cond!r}")
     if cond.width != 1:
-        raise DSLTypeError(f"{what} needs a scalar Bool, got a {cond.vtype.name} mask: "
-                           f"reduce it with Any(...) or All(...), or use Select for lane-wise choice")
+        em = _em.current()
+        raise DSLTypeError(f"{what} got a {cond.vtype.name} mask in a body of {em.width} lane(s): "
+                           f"reduce it with Any(...) or All(...)")
     return cond.ir
+
+
+def _mask(cond, what: str) -> Value:
+    """A per-lane condition as a mask of the lanes' width (scalar conditions are broadcast)."""
+    if isinstance(cond, bool) or not isinstance(cond, Value) or cond.kind.category != "bool":
+        raise DSLTypeError(f"{what} needs a Bool condition, not {cond!r}")
+    lanes = lanes_of()
+    lanes.adopt(cond.width, what)
+    width = lanes.width or 1
+    return cond if cond.width == width else value_class(VType(KINDS["Bool"], width))(cond)
 
 
 class _Block:
@@ -72,9 +94,11 @@ class _Block:
 
 
 class If(_Block):
-    """``with If(cond):`` runs its body when the scalar Bool ``cond`` is true."""
+    """``with If(cond):`` runs its body when the scalar Bool ``cond`` is true, or for the
+    lanes where the mask ``cond`` is set."""
 
     what = "If"
+    _varying = False
 
     def __init__(self, cond: Value) -> None:
         self._cond = cond
@@ -82,6 +106,10 @@ class If(_Block):
 
     def __enter__(self) -> None:
         em = _em.current()
+        if is_varying(self._cond):
+            self._taken = _mask(self._cond, self.what)
+            self._enter_lanes(em, self._taken)
+            return
         cond = _condition(self._cond, self.what)
         then_block, else_block = em.new_block("if.then"), em.new_block("if.else")
         em.cbranch(cond, then_block, else_block)
@@ -93,11 +121,27 @@ class If(_Block):
         em.goto(then_block)
         self._open(em)
 
+    def _enter_lanes(self, em, mask):
+        """Enter the block for the lanes of ``mask`` (and skip it when none of them is active)."""
+        self._varying = True
+        lanes = lanes_of(em)
+        lanes.frame.conds.append(mask)
+        body, self._merge = em.new_block("lanes.if"), em.new_block("lanes.end")
+        em.cbranch(Any(lanes.active()).ir, body, self._merge)
+        em.goto(body)
+        self._open(em)
+
     def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
         if exc_type is not None:
             return False
         self._close()
         em = self._em
+        if self._varying:
+            lanes_of(em).frame.conds.pop()
+            em.branch_to(self._merge)
+            em.goto(self._merge)
+            em.pending_chain = ("lanes", self, self._merge)
+            return False
         em.branch_to(self._merge)
         em.goto(self._else)
         em.branch(self._merge)
@@ -109,21 +153,31 @@ class If(_Block):
 def _claim_chain(what: str):
     em = _em.current()
     chain = em.pending_chain
-    if chain is None or em.block is not chain[1]:
+    if chain is None or em.block is not chain[-1 if chain[0] == "lanes" else 1]:
         raise ControlFlowError(f"{what} must directly follow an If or Elif block")
+    if chain[0] == "lanes":
+        return em, chain[1], None
     else_block, merge, mark = chain
     em.claim_since_chain(else_block, merge, mark)
     return em, else_block, merge
 
 
 class Elif(If):
-    """``with Elif(cond):`` directly after an If/Elif block."""
+    """``with Elif(cond):`` directly after an If/Elif block (per lane after a per-lane one)."""
 
     what = "Elif"
 
     def __enter__(self) -> None:
-        em, prev_else, merge = _claim_chain("Elif")
-        em.reopen(prev_else)  # drop its branch to the merge block
+        em, prev, merge = _claim_chain("Elif")
+        if merge is None:  # the chain is per lane: the lanes no earlier condition took
+            cond = _mask(self._cond, self.what)
+            self._taken = prev._taken | cond
+            self._enter_lanes(em, ~prev._taken & cond)
+            return
+        if is_varying(self._cond):
+            raise ControlFlowError("Elif with a mask after a uniform If: an If chain is uniform (scalar "
+                                   "conditions) or per lane (masks) throughout")
+        em.reopen(prev)  # drop its branch to the merge block
         cond = _condition(self._cond, self.what)
         then_block, else_block = em.new_block("elif.then"), em.new_block("elif.else")
         em.cbranch(cond, then_block, else_block)
@@ -135,13 +189,23 @@ class Else(_Block):
     """``with Else():`` directly after an If/Elif block."""
 
     what = "Else"
+    _varying = False
 
     def __init__(self) -> None:
         self._register()
 
     def __enter__(self) -> None:
-        em, else_block, merge = _claim_chain("Else")
-        em.reopen(else_block)
+        em, prev, merge = _claim_chain("Else")
+        if merge is None:
+            self._varying = True
+            lanes = lanes_of(em)
+            lanes.frame.conds.append(~prev._taken)
+            body, self._merge = em.new_block("lanes.else"), em.new_block("lanes.end")
+            em.cbranch(Any(typing.cast(Value, lanes.active())).ir, body, self._merge)
+            em.goto(body)
+            self._open(em)
+            return
+        em.reopen(prev)
         self._merge = merge
         self._open(em)
         self._scope.chain = merge
@@ -150,25 +214,101 @@ class Else(_Block):
         if exc_type is not None:
             return False
         self._close()
+        if self._varying:
+            lanes_of(self._em).frame.conds.pop()
         self._em.branch_to(self._merge)
         self._em.goto(self._merge)
         return False
 
 
-class While(_Block):
-    """``with While(lambda: cond):`` loops while the condition holds.
+class _Loop(_Block):
+    """What While and For share: the loop's frame, its lane masks, Break/Continue targets and
+    the iteration limit."""
 
-    The condition must be re-evaluated on every iteration, so it is given as a
-    callable returning a scalar Bool (or as a Bool ``Variable``).
+    _max: int | None = None
+
+    def _tracks_lanes(self, em, varying: bool) -> bool:
+        """Whether the loop keeps per-lane masks: its condition is per lane, or its body may leave
+        it per lane (it calls Break/Continue/Return and the function has several lanes)."""
+        if varying:
+            return True
+        if not getattr(em.dsl_function, "is_kernel", False) or em.width == 1:
+            return False  # a function's scalar code branches (masks come only from mask conditions)
+        frame = user_frame()
+        calls = with_block_calls(frame.f_code, frame.f_lineno) if frame is not None else None
+        return calls is None or bool(calls & _LANE_EXITS)
+
+    def _begin(self, em, tracked: bool):
+        lanes = lanes_of(em)
+        self._head, self._body = em.new_block(f"{self.what.lower()}.cond"), em.new_block(f"{self.what.lower()}.body")
+        self._latch, self._exit = em.new_block(f"{self.what.lower()}.next"), em.new_block(f"{self.what.lower()}.end")
+        loop = None
+        if tracked:
+            entry = lanes.active()
+            bools = lanes.mask_type()
+            alive = Variable(value_class(bools), entry if entry is not None else True, name="alive")
+            skip = Variable(value_class(bools), False, name="skip")
+            loop = LoopLanes(alive, skip)
+        self._frame = Frame(loop=loop, exit_block=self._exit, next_block=self._latch)
+        self._count = None
+        if self._max is not None:
+            self._count = Variable(value_class(T.INDEX), 0, name="iterations", uniform=True)
+        return loop
+
+    def _to_head(self, em):
+        em.branch_to(self._head)
+        em.goto(self._head)
+
+    def _enter_body(self, em, go):
+        """Branch on ``go`` (a scalar Bool IR value) into the body, and open it."""
+        if self._count is not None:
+            within = ops.compare(em, T.INDEX, "lt", self._count.ir, T.const(T.INDEX, self._max))
+            over, fine = em.new_block("loop.over"), em.new_block("loop.within")
+            em.cbranch(go, fine, self._exit)
+            em.goto(fine)
+            em.cbranch(within, self._body, over)
+            em.goto(over)
+            _report_runaway(em, self)
+            em.branch(self._exit)
+        else:
+            em.cbranch(go, self._body, self._exit)
+        em.goto(self._body)
+        lanes_of(em).frames.append(self._frame)
+        self._open(em)
+        if self._count is not None:
+            self._count.set_all(self._count + 1)
+
+    def _end(self, em, step=None):
+        """Close the body: the latch (``step()`` there), then back to the head."""
+        lanes = lanes_of(em)
+        em.branch_to(self._latch)
+        em.goto(self._latch)
+        if step is not None:
+            step()
+        if self._frame.loop is not None:
+            self._frame.loop.skip.set_all(False)
+        self._close()
+        lanes.frames.pop()
+        em.branch_to(self._head)
+        em.goto(self._exit)
+
+
+class While(_Loop):
+    """``with While(lambda: cond):`` loops while the condition holds: a scalar Bool, or a mask
+    (the loop runs while any lane's condition has held every iteration).
+
+    The condition must be re-evaluated on every iteration, so it is given as a callable (or as
+    a Bool ``Variable``). ``max_iterations=N`` makes more than N iterations an error.
     """
 
     what = "While"
 
-    def __init__(self, cond: Callable[[], Value] | Value) -> None:
+    def __init__(self, cond: Callable[[], Value] | Value, max_iterations: int | None = None) -> None:
         if isinstance(cond, Value) and not hasattr(cond, "_name"):
             raise DSLTypeError("While needs a condition that is re-evaluated every iteration: "
                                "pass a lambda, e.g. While(lambda: i < n), or a Bool Variable")
         self._cond = cond
+        self._max = _check_max(max_iterations)
         self._register()
 
     def _test(self):
@@ -176,55 +316,83 @@ class While(_Block):
 
     def __enter__(self) -> None:
         em = _em.current()
-        self._head, body, self._exit = em.new_block("while.cond"), em.new_block("while.body"), em.new_block("while.end")
-        em.branch_to(self._head)
-        em.goto(self._head)
-        em.cbranch(_condition(self._test(), "While"), body, self._exit)
-        em.goto(body)
-        self._open(em)
+        loop = self._begin(em, tracked=self._tracks_lanes(em, False) or self._declared_varying(em))
+        self._to_head(em)
+        cond = self._test()
+        probe_varying = is_varying(cond)
+        if probe_varying and loop is None:
+            raise ControlFlowError("While with a mask condition in a one-lane body")  # pragma: no cover
+        if loop is None:
+            go = _condition(cond, "While")
+        elif probe_varying:
+            loop.alive.set_all(loop.alive & _mask(cond, "While"))
+            go = Any(loop.alive.value).ir
+        else:
+            go = ops.binary(em, "and", VType(KINDS["Bool"], 1), _condition(cond, "While"), Any(loop.alive.value).ir)
+        self._enter_body(em, go)
+
+    def _declared_varying(self, em) -> bool:
+        """Whether the condition is per lane: evaluated once, aside, to know its type."""
+        scratch = em.new_block("while.probe")
+        here = em.block
+        em.goto(scratch)
+        try:
+            varying = is_varying(self._test())
+        finally:
+            em.goto(here)
+            scratch.parent.blocks.remove(scratch)
+        return varying
 
     def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
         if exc_type is not None:
             return False
-        self._close()
-        self._em.branch_to(self._head)
-        self._em.goto(self._exit)
+        self._end(self._em)
         return False
 
 
-class For(_Block):
-    """``with For(start, stop[, step]) as i:`` counts an Int ``i`` from start
-    while ``i < stop`` (``i > stop`` for a negative step). ``step`` is a Python
-    int; ``start``/``stop`` are ints or scalar Int/UInt values. ``i`` is valid
-    only inside the loop."""
+class For(_Loop):
+    """``with For(start, stop[, step]) as i:`` counts an Int ``i`` from start while ``i < stop``
+    (``i > stop`` for a negative step). ``step`` is a Python int; ``start``/``stop`` are ints or
+    Int/UInt values: scalars (one counter for all lanes) or per lane (a counter per lane, the
+    loop running while any lane's counter is short of its stop). ``i`` is valid only inside the
+    loop. ``max_iterations=N`` makes more than N iterations an error."""
 
     what = "For"
 
-    def __init__(self, start: int | Value, stop: int | Value | None = None, step: int = 1) -> None:
+    def __init__(self, start: int | Value, stop: int | Value | None = None, step: int = 1,
+                 max_iterations: int | None = None) -> None:
         if stop is None:
             start, stop = 0, start
         if not isinstance(step, int) or isinstance(step, bool) or step == 0:
             raise DSLTypeError(f"For step must be a non-zero Python int, not {step!r}")
         self._start, self._stop, self._step = start, stop, step
+        self._max = _check_max(max_iterations)
         self._register()
 
     def __enter__(self) -> Value:
         em = _em.current()
         ints = [v for v in (self._start, self._stop) if isinstance(v, Value)]
         vt = common_type(*ints, what="For") if ints else VType(KINDS["Int"], 1)
-        if not vt.kind.is_integer or vt.width != 1:
-            raise DSLTypeError(f"For bounds must be scalar Int or UInt, not {vt.name}")
-        self._counter: typing.Any = Variable(value_class(vt), self._start, name="i")
+        if not vt.kind.is_integer:
+            raise DSLTypeError(f"For bounds must be Int or UInt values, not {vt.name}")
+        varying = vt.width > 1
+        if varying:
+            lanes_of(em).adopt(vt.width, "For")
+        loop = self._begin(em, tracked=self._tracks_lanes(em, varying))
+        self._counter: typing.Any = Variable(value_class(vt), self._start, name="i", uniform=True)
+        self._to_head(em)
         stop = to_ir(self._stop, vt)
-        self._head, body = em.new_block("for.cond"), em.new_block("for.body")
-        self._latch, self._exit = em.new_block("for.next"), em.new_block("for.end")
-        em.branch_to(self._head)
-        em.goto(self._head)
-        cmp = ops.compare(em, vt, "lt" if self._step > 0 else "gt", self._counter.ir, stop)
-        em.cbranch(cmp, body, self._exit)
+        cmp = value_class(vt.with_kind("Bool"))._wrap(
+            ops.compare(em, vt, "lt" if self._step > 0 else "gt", self._counter.ir, stop), em)
         self._stop_ir, self._vt = stop, vt
-        em.goto(body)
-        self._open(em)
+        if loop is None:
+            go = cmp.ir
+        elif varying:
+            loop.alive.set_all(loop.alive & cmp)
+            go = Any(loop.alive.value).ir
+        else:
+            go = ops.binary(em, "and", VType(KINDS["Bool"], 1), cmp.ir, Any(loop.alive.value).ir)
+        self._enter_body(em, go)
         # The counter lives in the loop's scope, so using it after the loop is an error.
         self._counter._scope = self._scope
         return self._counter
@@ -232,9 +400,11 @@ class For(_Block):
     def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
         if exc_type is not None:
             return False
+        self._end(self._em, self._step_counter)
+        return False
+
+    def _step_counter(self):
         em = self._em
-        em.branch_to(self._latch)
-        em.goto(self._latch)
         nxt = (self._counter.value + self._step).named("i.next")
         if abs(self._step) > 1:
             # i + step may wrap around past stop (e.g. UInt 9, 7, ..., 1 -> 2**32 - 1):
@@ -244,33 +414,143 @@ class For(_Block):
             room = ops.binary(em, "sub", vt, *((stop, i) if self._step > 0 else (i, stop)))
             uvt = vt.with_kind("UInt")
             fits = ops.compare(em, uvt, "gt", room, T.const(uvt, step))
-            more = ops.binary(em, "and", VType(KINDS["Bool"], 1), ahead, fits)
+            more = ops.binary(em, "and", vt.with_kind("Bool"), ahead, fits)
             nxt = type(nxt)._wrap(ops.select(em, more, nxt.ir, stop), em)
-        self._counter.set(nxt)
-        self._close()
-        em.branch_to(self._head)
-        em.goto(self._exit)
-        return False
+        self._counter.set_all(nxt)
 
 
-def Return(value: Operand | None = None) -> None:
-    """Return ``value`` (or nothing) from the function being built."""
+def _check_max(n):
+    if n is not None and (not isinstance(n, int) or isinstance(n, bool) or n < 1):
+        raise DSLTypeError(f"max_iterations must be a positive int, not {n!r}")
+    return n
+
+
+def _innermost_loop(what: str) -> Frame:
+    frame = lanes_of().loop_frame()
+    if frame is None:
+        raise ControlFlowError(f"{what}() outside a For or While loop")
+    return frame
+
+
+def Break() -> None:
+    """Leave the innermost loop: for every lane when the code runs for all of them, else for the
+    active lanes (the others go on)."""
+    em = _em.current()
+    frame = _innermost_loop("Break")
+    lanes = lanes_of(em)
+    active = lanes.active()
+    if frame.loop is None:
+        if active is not None:
+            raise _untracked("Break")
+        em.branch(frame.exit_block)
+        em.goto(em.new_block("after.break"))
+        return
+    alive = frame.loop.alive
+    alive.set_all(alive & ~active if active is not None else False)
+
+
+def Continue() -> None:
+    """Go to the innermost loop's next iteration (for the active lanes)."""
+    em = _em.current()
+    frame = _innermost_loop("Continue")
+    lanes = lanes_of(em)
+    active = lanes.active()
+    if frame.loop is None:
+        if active is not None:
+            raise _untracked("Continue")
+        em.branch(frame.next_block)
+        em.goto(em.new_block("after.continue"))
+        return
+    skip = frame.loop.skip
+    skip.set_all(skip | active if active is not None else True)
+
+
+def _untracked(what: str) -> ControlFlowError:
+    return ControlFlowError(f"{what}() under a per-lane condition in a loop that does not track lanes: call "
+                            f"{what}() in the loop's own body (not in a function it calls), so the loop "
+                            f"sees it and keeps a mask of the lanes still in it")
+
+
+def Return(value: typing.Any = None) -> None:
+    """Return ``value`` (or nothing) from the function being built; in a kernel's body, or under a
+    per-lane condition, for the active lanes (the others go on; a kernel's result for a lane is the
+    value of its first Return, else the body's Python ``return``)."""
     em = _em.current()
     fn = em.dsl_function
-    if getattr(fn, "is_kernel", False):  # a `ret` would leave the ufunc loop early
-        raise ControlFlowError(f"Return in the body of kernel '{fn.name}': a kernel body gives its "
-                               f"results with Python 'return' (use Select for per-lane choices)")
+    lanes = lanes_of(em)
+    active = lanes.active()
+    kernel = getattr(fn, "is_kernel", False)
     expected = fn.returns
-    if expected is None:
-        if value is not None:
+    if not kernel:
+        if expected is None and value is not None:
             raise DSLTypeError(f"Return with a value in '{fn.name}', which returns nothing")
-        em.ret(None)
+        if expected is not None and value is None:
+            raise DSLTypeError(f"Return without a value in '{fn.name}', which returns {expected.name}")
+        if isinstance(value, Value) and (value.kind != expected.kind or value.width not in (1, expected.width)):
+            raise DSLTypeError(f"Return of a {value.vtype.name} in '{fn.name}', which returns {expected.name}")
+    if kernel and active is None:  # every lane of this path returns: a real return
+        _return_from_kernel(em, fn, value)
         return
-    if value is None:
-        raise DSLTypeError(f"Return without a value in '{fn.name}', which returns {expected.name}")
-    if isinstance(value, Value) and (value.kind != expected.kind or value.width not in (1, expected.width)):
-        raise DSLTypeError(f"Return of a {value.vtype.name} in '{fn.name}', which returns {expected.name}")
-    em.ret(to_ir(value, expected))
+    if not kernel and active is None:  # every lane returns here
+        if expected is None:
+            em.ret(None)
+        else:
+            result = to_ir(value, expected)
+            if lanes.returned is not None:
+                result = Select(lanes.returned.value, lanes.results[0].value,
+                                value_class(expected)._wrap(result, em)).ir
+            em.ret(result)
+        return
+    record_lane_results(em, fn, value, active)
+
+
+def record_lane_results(em, fn, value, active) -> None:
+    """Store ``value`` as the result of the ``active`` lanes (None: all) and mark them returned."""
+    lanes = lanes_of(em)
+    kernel = getattr(fn, "is_kernel", False)
+    outs = list(fn.outputs) if kernel else ([] if fn.returns is None else [fn.returns])
+    values = list(value) if isinstance(value, tuple) else ([] if value is None else [value])
+    if len(values) != len(outs):
+        raise DSLTypeError(f"Return of {len(values)} value(s) in '{fn.name}', which gives {len(outs)}")
+    if lanes.returned is None:
+        lanes.returned = lanes.entry_variable(lanes.mask_type(), False, "returned")
+        lanes.results = [lanes.entry_variable(t, False if t.kind.category == "bool" else 0, f"result{k}")
+                         for k, t in enumerate(outs)]
+    mask = active if active is not None else lanes.all_lanes()
+    for var, v in zip(lanes.results, values):
+        var.set_all(Select(mask, v, var.value))
+    lanes.returned.set_all(lanes.returned | mask)
+    for frame in lanes.frames:  # the lanes leave every loop they are in
+        if frame.loop is not None:
+            frame.loop.alive.set_all(frame.loop.alive & ~mask)
+
+
+def _return_from_kernel(em, fn, value) -> None:
+    """Return ``value`` from a kernel's body for every lane on this path (lanes that returned
+    earlier keep their results)."""
+    values = value if isinstance(value, tuple) else ((value,) if value is not None else ())
+    outs = list(fn.outputs)
+    if len(values) != len(outs):
+        raise DSLTypeError(f"Return of {len(values)} value(s) in '{fn.name}', which gives {len(outs)}")
+    results = final_results(em, fn, tuple(value_class(t)._wrap(to_ir(v, t), em) for v, t in zip(values, outs)))
+    irs = [r.ir for r in results]
+    em.ret(irs[0] if len(irs) == 1 else em.pack(T.StructType(tuple(outs)), irs))
+
+
+def final_results(em, fn, values):
+    """The body's results: its Python return values, where no lane returned earlier."""
+    lanes = em.lanes
+    if lanes is None or lanes.returned is None:
+        return values
+    if values is None:
+        return tuple(var.value for var in lanes.results)
+    return tuple(Select(lanes.returned.value, var.value, v) for var, v in zip(lanes.results, values))
+
+
+def _report_runaway(em, loop) -> None:
+    """Record that ``loop`` ran out of iterations (the kernel or routine raises it after the call)."""
+    from .limits import report_runaway
+    report_runaway(em, loop)
 
 
 def check_python_returns(body) -> None:

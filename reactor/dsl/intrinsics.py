@@ -13,6 +13,7 @@ NaN behaviour:
 from __future__ import annotations
 
 import contextlib
+import typing
 from typing import Callable, Iterator
 
 from ..build import Build, Precision, current_options, options
@@ -22,6 +23,9 @@ from ..ir import ops, x86
 from ..ir import types as T
 from ..ir.types import KINDS, VType
 from .values import Operand, Value, binary, common_type, to_ir, unary, value_class, vector_type
+
+if typing.TYPE_CHECKING:
+    from .vectors import Vec
 
 
 def _binary_fn(op: str, doc: str) -> Callable[[Operand, Operand], Value]:
@@ -76,8 +80,18 @@ def _classify(name: str) -> Callable[[Value], Value]:
 IsNan, IsInf, IsFinite = _classify("IsNan"), _classify("IsInf"), _classify("IsFinite")
 
 
-def Select(mask: Value, a: Operand, b: Operand) -> Value:
-    """Lane-wise ``mask ? a : b``; a scalar Bool mask selects whole vectors."""
+@typing.overload
+def Select(mask: typing.Any, a: Vec, b: typing.Any) -> Vec: ...
+@typing.overload
+def Select(mask: typing.Any, a: typing.Any, b: Vec) -> Vec: ...
+@typing.overload
+def Select(mask: Value, a: Operand, b: Operand) -> Value: ...
+def Select(mask: typing.Any, a: typing.Any, b: typing.Any) -> typing.Any:
+    """Lane-wise ``mask ? a : b``; a scalar Bool mask selects whole vectors; GLSL vectors
+    (``vec3`` ...) per component, with a Bool mask or a ``bvec`` of their size."""
+    from .vectors import Vec, select as select_vectors
+    if isinstance(a, Vec) or isinstance(b, Vec):
+        return select_vectors(mask, a, b)
     if not isinstance(mask, Value) or mask.kind.category != "bool":
         raise DSLTypeError(f"Select needs a Bool mask as first argument, not {mask!r}")
     if not isinstance(a, Value) and not isinstance(b, Value):  # two constants: their Python kind

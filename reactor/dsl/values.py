@@ -64,6 +64,8 @@ class Value:
         def __ge__(self, other: Operand) -> Value: ...
         def __eq__(self, other: object) -> Value: ...  # type: ignore[override]
         def __ne__(self, other: object) -> Value: ...  # type: ignore[override]
+        def __pow__(self, other: Operand) -> Value: ...
+        def __rpow__(self, other: Operand) -> Value: ...
         def __neg__(self) -> Value: ...
         def __pos__(self) -> Value: ...
         def __invert__(self) -> Value: ...
@@ -76,7 +78,11 @@ class Value:
         em = _em.current()
         vt = cls.vtype
         if len(args) == 1:
-            return cls._wrap(to_ir(args[0], vt, convert=True), em)
+            arg = args[0]
+            if vt.width == 1 and isinstance(arg, Value) and arg.width > 1:
+                # Float(i) of an Int16 is a Float16: a scalar type converts lane by lane
+                cls, vt = value_class(vt.with_width(arg.width)), vt.with_width(arg.width)
+            return cls._wrap(to_ir(arg, vt, convert=True), em)
         if len(args) == vt.width and vt.width > 1:
             vec = T.undefined(vt)
             for lane, arg in enumerate(args):
@@ -275,14 +281,53 @@ _BINARY_DUNDERS = {
 }
 
 
+def _foreign(x) -> bool:
+    """An operand that handles the operation itself (a GLSL vector or matrix): Python then asks it."""
+    return getattr(type(x), "dsl_composite", False)
+
+
+_power_function = None
+
+
+def set_power(fn) -> None:
+    """Install what ``x ** y`` computes for a non-integer ``y`` (a routine library's pow)."""
+    global _power_function
+    _power_function = fn
+
+
+def power(a, b):
+    """``a ** b``: a chain of multiplications for a whole-number constant ``|b| <= 16`` (``2`` or
+    ``2.0``), else the installed pow (``routines`` installs its ``pow``, which follows the build's precision)."""
+    if isinstance(b, float) and b.is_integer() and abs(b) <= 16:
+        b = int(b)  # x ** 2.0 is x * x, as in Python and NumPy (pow would be NaN for x < 0)
+    if isinstance(b, int) and not isinstance(b, bool) and abs(b) <= 16 and isinstance(a, Value):
+        if not a.kind.is_float:
+            raise DSLTypeError(f"operator '**' is defined for Float and Double, not {a.vtype.name}")
+        result, base, n = None, a, abs(b)
+        while n:
+            if n & 1:
+                result = base if result is None else result * base
+            n >>= 1
+            if n:
+                base = base * base
+        result = value_class(a.vtype)(1.0) if result is None else result
+        return 1.0 / result if b < 0 else result
+    if _power_function is None:
+        raise DSLTypeError("x ** y with a y other than a small integer constant needs pow: import routines "
+                           "(or reactor.set_power(your_pow))")
+    return _power_function(a, b)
+
+
 def _install_operators() -> None:
     for name, (fwd, rev, sym) in _BINARY_DUNDERS.items():
         what = f"operator '{sym}'"
-        setattr(Value, fwd, lambda a, b, _n=name, _w=what: binary(_n, a, b, _w))
-        setattr(Value, rev, lambda a, b, _n=name, _w=what: binary(_n, b, a, _w))
+        setattr(Value, fwd, lambda a, b, _n=name, _w=what: NotImplemented if _foreign(b) else binary(_n, a, b, _w))
+        setattr(Value, rev, lambda a, b, _n=name, _w=what: NotImplemented if _foreign(b) else binary(_n, b, a, _w))
     for name, dunder in {"lt": "__lt__", "le": "__le__", "gt": "__gt__", "ge": "__ge__",
                          "eq": "__eq__", "ne": "__ne__"}.items():
-        setattr(Value, dunder, lambda a, b, _n=name: comparison(_n, a, b))
+        setattr(Value, dunder, lambda a, b, _n=name: NotImplemented if _foreign(b) else comparison(_n, a, b))
+    setattr(Value, "__pow__", lambda a, b: NotImplemented if _foreign(b) else power(a, b))
+    setattr(Value, "__rpow__", lambda a, b: NotImplemented if _foreign(b) else power(b, a))
     setattr(Value, "__neg__", lambda a: unary("neg", a, "negation"))
     setattr(Value, "__pos__", lambda a: a)
     setattr(Value, "__invert__", lambda a: unary("invert", a, "operator '~'"))

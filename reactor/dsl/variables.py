@@ -16,7 +16,10 @@ from __future__ import annotations
 import functools
 import typing
 
-from ..errors import DSLTypeError, ScopeError
+if typing.TYPE_CHECKING:
+    from .vectors import Vec
+
+from ..errors import ControlFlowError, DSLTypeError, ScopeError
 from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
@@ -50,9 +53,32 @@ class _VariableMixin:
         return value_class(self.vtype)._wrap(self.ir)
 
     def set(self, value: Operand) -> Value:
-        """Store ``value`` (converted only if it is a Python constant or a broadcast scalar)."""
-        _em.current().store(to_ir(value, self.vtype), self._slot())
+        """Store ``value`` (converted only if it is a Python constant or a broadcast scalar); under
+        a per-lane condition, in the active lanes only."""
+        from .lanes import active_mask
+        em = _em.current()
+        new = to_ir(value, self.vtype)
+        mask = active_mask()
+        if mask is not None:
+            if self.vtype.width != mask.width:
+                kernel = getattr(em.dsl_function, "is_kernel", False)
+                fix = ("declare it without uniform=True (one value per lane)" if kernel else
+                       f"declare it with one value per lane (Variable({self.vtype.kind.name}{mask.width}, ...))")
+                raise ControlFlowError(
+                    f"Variable '{self._name}' ({self.vtype.name}) is assigned under a per-lane condition of "
+                    f"{mask.width} lanes: which lane's value should it take? {fix[0].upper() + fix[1:]}, "
+                    f"or assign it outside the condition")
+            slot = self._slot()
+            new = em.select(mask.ir, new, em.load(slot, name=self._name), name=f"{self._name}.masked")
+            em.store(new, slot)
+        else:
+            em.store(new, self._slot())
         return typing.cast(Value, self)  # a Variable[T] class is both this mixin and a Value
+
+    def set_all(self, value: Operand) -> None:
+        """Store ``value`` in every lane, whatever the per-lane conditions (for the control flow's own
+        masks and counters)."""
+        _em.current().store(to_ir(value, self.vtype), self._slot())
 
     def named(self, name):
         return self
@@ -78,16 +104,39 @@ def _variable_class(vtype: VType):
                 {"__slots__": ("_name", "_init"), "__module__": "reactor"})
 
 
-def Variable(type_or_value: type[Value] | Value, init: Operand | None = None, name: str = "var") -> Value:
+def per_lane(vtype: VType) -> VType:
+    """The type a variable of ``vtype`` has where it is declared: in a kernel's body a scalar
+    type means one value per lane (as every variable of a shader), so it takes the body's width."""
+    if vtype.width == 1 and _em.building():
+        em = _em.current()
+        if getattr(em.dsl_function, "is_kernel", False) and em.width > 1:
+            return vtype.with_width(em.width)
+    return vtype
+
+
+@typing.overload
+def Variable(type_or_value: type[Vec] | Vec, init: typing.Any = None, name: str = "var", *,
+             uniform: bool = False) -> Vec: ...
+@typing.overload
+def Variable(type_or_value: type[Value] | Value, init: Operand | None = None, name: str = "var", *,
+             uniform: bool = False) -> Value: ...
+def Variable(type_or_value: typing.Any, init: typing.Any = None, name: str = "var", *,
+             uniform: bool = False) -> typing.Any:
     """A mutable variable: ``Variable(Float4, 0.0)``, ``Variable(Float4)`` (zero)
-    or ``Variable(x)`` (type and initial value from the value ``x``)."""
+    or ``Variable(x)`` (type and initial value from the value ``x``). In a kernel's
+    body ``Variable(Float, 0.0)`` holds one value per lane (the body's width), unless
+    ``uniform=True`` (one value for every lane, as a loop counter); ``Variable(vec3, 0.0)``
+    is a vector variable (components per lane too)."""
+    from .vectors import Vec, vector_variable
+    if isinstance(type_or_value, Vec) or isinstance(type_or_value, type) and issubclass(type_or_value, Vec):
+        return vector_variable(type_or_value, init, name)
     if isinstance(type_or_value, Value):
         if init is not None:
             raise DSLTypeError("Variable(value) takes its initial value from the value; "
                                "use Variable(Type, init) to give both")
-        vtype, init = type_or_value.vtype, type_or_value
+        vtype, init = type_or_value.vtype if uniform else per_lane(type_or_value.vtype), type_or_value
     elif isinstance(type_or_value, type) and issubclass(type_or_value, Value) and hasattr(type_or_value, "vtype"):
-        vtype = type_or_value.vtype
+        vtype = type_or_value.vtype if uniform else per_lane(type_or_value.vtype)
     else:
         raise DSLTypeError(f"Variable needs a DSL type or value, not {type_or_value!r}")
     em = _em.current()
@@ -138,6 +187,10 @@ class PointerValue:
         return value_class(vt)._wrap(ops.load(em, vt, addr), em)
 
     def _store(self, index, value, vt: VType):
+        from .lanes import active_mask
+        if active_mask() is not None:
+            raise ControlFlowError(f"a store through {self.ptype.name} under a per-lane condition: only some "
+                                   f"lanes should store; compute the value with Select and store it outside")
         val = to_ir(value, vt)
         em, addr = self._address(index, vt)
         self.written = True
@@ -171,6 +224,18 @@ class PointerValue:
 
     def __repr__(self):
         return f"<{self.ptype.name}>"
+
+
+def entry_variable(vtype: VType, init, name: str):
+    """A Variable whose initial value is stored at the function's entry, wherever it is created
+    (so it holds that value on every path that reaches its first use)."""
+    em = _em.current()
+    slot = em.alloca(vtype.ir, name=name)
+    init_store = em.store_at_entry(to_ir(init, vtype), slot)
+    var = _variable_class(vtype)._wrap(slot, em)
+    var._name, var._init = name, init_store
+    var._scope = em.root_scope
+    return var
 
 
 def is_variable(x: object) -> bool:

@@ -76,6 +76,16 @@ class ModuleEmitter:
         self._text: str | None = None
         self.written: dict[object, frozenset] = {}  # (Function, width) -> pointer parameters it stores to
 
+    def counter(self, name: str):
+        """A module-level 32-bit integer variable initialized to 0 (made once per name), visible
+        to the JIT by ``name`` (for a status its code leaves for the caller)."""
+        try:
+            return self.module.get_global(name)
+        except KeyError:
+            g = ir.GlobalVariable(self.module, ir.IntType(32), name=name)
+            g.initializer = ir.Constant(ir.IntType(32), 0)
+            return g
+
     def unique_name(self, base: str) -> str:
         names = {g.name for g in self.module.global_values}
         i = 0
@@ -179,6 +189,7 @@ class FunctionEmitter:
         self.pending_chain = None  # (else_block, merge_block, mark) after an If/Elif
         self.dsl_function: typing.Any = None  # what is being built (set by its builder; see dsl/control.Return)
         self.unentered: list = []  # blocks (If, For, ...) created but not yet entered with `with`
+        self.lanes: typing.Any = None  # the execution-mask state (reactor.dsl.lanes), made on first use
 
     @property
     def name(self) -> str:
@@ -298,6 +309,12 @@ class FunctionEmitter:
             size = None if count == 1 else ir.Constant(ir.IntType(64), count)
             return self._b.alloca(_llvm(t), size=size, name=name)
 
+    def store_at_entry(self, value, ptr):
+        """Store ``value`` to ``ptr`` in the entry block (an initial value that dominates every use)."""
+        with self._b.goto_block(self._entry):
+            self._b.position_before(self._entry.terminator)
+            return self._b.store(value, ptr)
+
     def load(self, ptr, *, align: int | None = None, name: str = "load"):
         return self._b.load(ptr, name=name, align=align)
 
@@ -341,6 +358,10 @@ class FunctionEmitter:
     def atomic_add(self, ptr, value, name: str = "old"):
         """Atomically add ``value`` to ``*ptr`` (monotonic order); the value before."""
         return self._b.atomic_rmw("add", ptr, value, "monotonic", name=name)
+
+    def atomic_swap(self, ptr, value, name: str = "old"):
+        """Atomically replace ``*ptr`` by ``value``; the value before."""
+        return self._b.atomic_rmw("xchg", ptr, value, "monotonic", name=name)
 
     def intrinsic(self, name: str, ret, args) -> ir.Function:
         return self.module.declare(name, ret, args)

@@ -79,7 +79,9 @@ BINARY = {
     "sub": {"float": "fsub", "int": "sub", "uint": "sub"},
     "mul": {"float": "fmul", "int": "mul", "uint": "mul"},
     "div": {"float": "fdiv", "int": _div(True, False), "uint": _div(False, False)},
-    "rem": {"int": _div(True, True), "uint": _div(False, True)},
+    "rem": {"float": lambda em, vt, a, b: em.fsub(a, em.fmul(b, intrinsic(em, "llvm.floor", vt, [em.fdiv(a, b)]),
+                                                             name="mul"), name="mod"),  # GLSL mod
+            "int": _div(True, True), "uint": _div(False, True)},
     "and": {"int": "and_", "uint": "and_", "bool": "and_"},
     "or": {"int": "or_", "uint": "or_", "bool": "or_"},
     "xor": {"int": "xor", "uint": "xor", "bool": "xor"},

@@ -48,6 +48,7 @@ from ..ir.types import KINDS, PointerType, VType
 from ..dsl.external import External
 from ..jit import cache
 from ..jit.compiler import CompiledCode, ShowsCode, cached_object
+from ..dsl.limits import messages_of
 from .recipe import recipe_key
 from . import parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
@@ -71,7 +72,7 @@ class Kernel(ShowsCode):
         exports = (loop_name, entry_name)
         self.code = self._from_recipe(body, signature, exports) or self._traced(body, exports, signature)
         self._loop = self.code.address(entry_name)
-        self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element)
+        self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element, self.messages)
         self._signature = [[k.dtype for k in ins + outs]]
         self.types = "".join(k.dtype.char for k in ins) + "->" + "".join(k.dtype.char for k in outs)
 
@@ -111,7 +112,7 @@ class Kernel(ShowsCode):
             imports[symbol] = address
         if obj is None:
             return None
-        self.cycles_per_element = found["cycles"]
+        self.cycles_per_element, self.messages = found["cycles"], found["messages"]
         code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
                             obj=obj, ir_source=lambda: self._module(body)[0].text)
         code.source = f"recipe, {source}"
@@ -120,10 +121,12 @@ class Kernel(ShowsCode):
     def _traced(self, body, exports, signature) -> CompiledCode:
         build = self.build
         module, self.cycles_per_element = self._module(body)
+        self.messages = messages_of(module)
         code = CompiledCode(module.text, build.target, build.opt, exports, build.cache, module.imports)
         if self.recipe:
             cache.recipe_put(self.recipe, {"ir_key": code.key, "cycles": self.cycles_per_element,
-                                           "imports": sorted(module.import_libraries.items())}, build.cache)
+                                           "imports": sorted(module.import_libraries.items()),
+                                           "messages": self.messages}, build.cache)
         return code
 
     def __repr__(self):

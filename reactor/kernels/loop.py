@@ -28,20 +28,22 @@ so kernels report no floating-point warnings through NumPy's ``errstate``.
 """
 from __future__ import annotations
 
+from ..dsl.control import final_results
 from ..dsl.values import to_ir, value_class
 from ..errors import DSLTypeError, at_return_of
 from ..ir import emitter as _em
 from ..ir import ops, x86
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
+from ..dsl.limits import STATUS, messages_of
 from .parallel import CYCLES_SCALE
 
 BOOL = KINDS["Bool"]
 LOOP_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), T.BYTES]
 LOOP_NAMES = ["args", "dims", "steps", "data"]
 #: The runtime's settings and a kernel's LoopConfig (reactor.kernels.parallel), as the IR sees them.
-SETTINGS = T.StructType((INDEX, INDEX, INDEX, T.BYTES, T.BYTES))
-_CONFIG = T.StructType((T.Address(SETTINGS), INDEX, INDEX))
+SETTINGS = T.StructType((INDEX, INDEX, INDEX, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES))
+_CONFIG = T.StructType((T.Address(SETTINGS), INDEX, INDEX, T.BYTES_ARRAY))
 #: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats)
 PREPARE_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), INDEX, INDEX, T.PointerType(INDEX),
                   INDEX, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES]
@@ -52,13 +54,14 @@ def _idx(v: int):
 
 
 class KernelBody:
-    """Stands in for the function being built: kernel bodies return with Python ``return``."""
+    """Stands in for the function being built: a kernel body gives its results with Python
+    ``return``, or per lane with ``Return(...)`` (see ``reactor.dsl.control``)."""
 
     returns = None
-    is_kernel = True  # Return() is an error in kernel bodies
+    is_kernel = True
 
-    def __init__(self, name):
-        self.name = name
+    def __init__(self, name, outputs):
+        self.name, self.outputs = name, outputs
 
 
 def emit_body(module, name: str, body, in_kinds, out_kinds, width: int):
@@ -72,18 +75,26 @@ def emit_body(module, name: str, body, in_kinds, out_kinds, width: int):
     fname = f"{name}.body" if width > 1 or module.build.width == 1 else f"{name}.body1"
     em = _em.FunctionEmitter(module, fname, ret, params, [f"x{k}" for k in range(len(in_kinds))],
                              width=width, internal=True)
-    em.dsl_function = KernelBody(name)
+    em.dsl_function = KernelBody(name, outs)
     with em:
         inputs = [value_class(p)._wrap(a, em) for p, a in zip(params, em.params)]
         result = body(*inputs)
-        if not isinstance(result, tuple):
+        if result is not None and not isinstance(result, tuple):
             result = (result,)
         with at_return_of(body):
-            if len(result) != len(outs):
-                raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
-                                   f"{len(outs)} output(s)")
-            irs = [to_ir(r, vt) for r, vt in zip(result, outs)]
-        for block in em.finish():
+            result = final_results(em, em.dsl_function, result)
+            irs: list | None = None
+            if result is not None:
+                if len(result) != len(outs):
+                    raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
+                                       f"{len(outs)} output(s)")
+                irs = [to_ir(r, vt) for r, vt in zip(result, outs)]
+            open_blocks = em.finish()
+            if open_blocks and irs is None:
+                raise DSLTypeError("kernel body can reach its end without a result: end it with "
+                                   "'return value' (or Return(...) on every path)")
+        for block in open_blocks:
+            assert irs is not None
             em.position_at(block)
             em.ret(irs[0] if isinstance(ret, VType) else em.pack(ret, irs))
         em.finish()
@@ -219,6 +230,29 @@ def estimated_cycles(body_fn, width: int) -> float:
     return _em.ModuleEmitter.instruction_count(body_fn) / width / 2 + 0.25
 
 
+def _raise_runaway(em, data) -> None:
+    """If a loop of the body ran out of iterations, set Python's error (GIL taken): NumPy
+    reports it when the call returns. Emitted in the dispatcher, on the caller's thread, after
+    every chunk of a split call has finished (an error set on a worker thread would be lost)."""
+    i32 = VType(KINDS["Int"], 1)
+    old = em.atomic_swap(em.module.counter(STATUS), T.const(i32, 0), name="runaway")
+    report, done = em.new_block("runaway"), em.new_block("return")
+    em.cbranch(ops.compare(em, i32, "ne", old, T.const(i32, 0)), report, done)
+    em.goto(report)
+    cfg = em.cast_pointer(data, _CONFIG, name="config")
+    settings = em.load(em.field(cfg, 0), name="settings")
+    message = em.load(em.address(em.load(em.field(cfg, 3), name="messages"),
+                                 ops.convert(em, i32, INDEX, ops.binary(em, "sub", i32, old, T.const(i32, 1)))),
+                      name="message")
+    ensure, set_error, release, exc = (em.load(em.field(settings, k), name=n) for k, n in
+                                       ((5, "gil.ensure"), (6, "err.set"), (7, "gil.release"), (8, "exc")))
+    state = em.call_pointer(ensure, i32, [], [], name="gil")
+    em.call_pointer(set_error, None, [T.BYTES, T.BYTES], [exc, message])
+    em.call_pointer(release, None, [i32], [state])
+    em.branch(done)
+    em.goto(done)
+
+
 def emit_dispatcher(module, name: str, serial) -> object:
     """``<name>.ufunc``: the loop NumPy calls. ``data`` points to the kernel's
     ``parallel.LoopConfig``; a call worth splitting (see ``parallel``) goes to the
@@ -245,9 +279,14 @@ def emit_dispatcher(module, name: str, serial) -> object:
         parallel_for = em.load(em.field(settings, 3), name="parallel_for")
         em.call_pointer(parallel_for, None, [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX],
                         [em.function_address(serial, name="serial"), args, dims, steps, data, nargs, threads])
-        em.ret(None)
+        done = em.new_block("done")
+        em.branch(done)
         em.goto(serial_block)
         em.call(serial, [args, dims, steps, data])
+        em.branch(done)
+        em.goto(done)
+        if messages_of(module):
+            _raise_runaway(em, data)
         em.ret(None)
         em.finish()
     return em.function

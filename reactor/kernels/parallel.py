@@ -33,6 +33,7 @@ import threading
 from typing import NamedTuple
 
 from ..build import BuildOptions
+from ..errors import LoopLimitError
 from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
@@ -57,14 +58,17 @@ class SettingsStruct(ctypes.Structure):
     """What every dispatcher reads at each call (one per process)."""
 
     _fields_ = [("threads", ctypes.c_int64), ("threshold", ctypes.c_int64), ("min_work", ctypes.c_int64),
-                ("parallel_for", ctypes.c_void_p), ("prepare", ctypes.c_void_p)]
+                ("parallel_for", ctypes.c_void_p), ("prepare", ctypes.c_void_p),
+                # how a kernel's loop raises a Python error (a loop out of iterations)
+                ("gil_ensure", ctypes.c_void_p), ("err_set", ctypes.c_void_p), ("gil_release", ctypes.c_void_p),
+                ("runtime_error", ctypes.c_void_p)]
 
 
 class LoopConfig(ctypes.Structure):
     """What a kernel's dispatcher reads through NumPy's per-loop ``data`` pointer."""
 
     _fields_ = [("settings", ctypes.POINTER(SettingsStruct)), ("nargs", ctypes.c_int64),
-                ("cycles_per_element", ctypes.c_int64)]
+                ("cycles_per_element", ctypes.c_int64), ("messages", ctypes.POINTER(ctypes.c_char_p))]
 
 
 class Settings(NamedTuple):
@@ -86,7 +90,16 @@ def _default_threads() -> int:
         return os.cpu_count() or 1
 
 
-_settings = SettingsStruct(min(_default_threads(), MAX_THREADS), DEFAULT_THRESHOLD, DEFAULT_MIN_WORK, None, None)
+def _c_function(name: str) -> int:
+    address = ctypes.cast(getattr(ctypes.pythonapi, name), ctypes.c_void_p).value
+    if not address:
+        raise RuntimeError(f"the Python C API function {name} has no address")
+    return address
+
+
+_settings = SettingsStruct(min(_default_threads(), MAX_THREADS), DEFAULT_THRESHOLD, DEFAULT_MIN_WORK, None, None,
+                           _c_function("PyGILState_Ensure"), _c_function("PyErr_SetString"),
+                           _c_function("PyGILState_Release"), id(LoopLimitError))
 _lock = threading.Lock()
 
 
@@ -106,13 +119,17 @@ def settings() -> Settings:
     return Settings(_settings.threads, _settings.threshold, _settings.min_work)
 
 
-def make_config(nargs: int, cycles_per_element: float) -> LoopConfig:
-    """The ``data`` block for one kernel loop (keep it alive as long as the ufunc)."""
+def make_config(nargs: int, cycles_per_element: float, messages=()) -> LoopConfig:
+    """The ``data`` block for one kernel loop (keep it alive as long as the ufunc): ``messages``
+    are the errors of its loops that run out of iterations."""
     if _settings.parallel_for is None:
         _settings.parallel_for = runtime().address("reactor_parallel_for")
         _settings.prepare = runtime().address("reactor_prepare")
     cycles = max(1, int(round(cycles_per_element * CYCLES_SCALE)))
-    return LoopConfig(ctypes.pointer(_settings), nargs, cycles)
+    table = (ctypes.c_char_p * max(1, len(messages)))(*[m.encode() for m in messages])
+    config = LoopConfig(ctypes.pointer(_settings), nargs, cycles, table)
+    config._keep = table  # the strings live as long as the config
+    return config
 
 
 # -- the native runtime ------------------------------------------------------------------------

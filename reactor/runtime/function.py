@@ -23,7 +23,8 @@ import numpy as np
 
 from ..build import Build, current_options
 from ..dsl.function import FunctionDef
-from ..errors import ArityError, ReactorError
+from ..dsl.limits import STATUS, messages_of
+from ..errors import ArityError, LoopLimitError, ReactorError
 from ..ir import emitter as _em
 from ..jit.compiler import CompiledCode, ShowsCode
 from . import entry
@@ -107,10 +108,11 @@ class Module:
 
     def compile_with(self, build: Build) -> "Library":
         mod = self.build(build)
-        code = CompiledCode(mod.text, build.target, build.opt,
-                            tuple(f.name + entry.SUFFIX for f in self.functions), build.cache, mod.imports)
-        return Library(code, {f.name: Routine(f, code, build, mod.written.get((f, build.width), frozenset()))
-                              for f in self.functions})
+        messages = messages_of(mod)
+        exports = tuple(f.name + entry.SUFFIX for f in self.functions) + ((STATUS,) if messages else ())
+        code = CompiledCode(mod.text, build.target, build.opt, exports, build.cache, mod.imports)
+        return Library(code, {f.name: Routine(f, code, build, mod.written.get((f, build.width), frozenset()),
+                                              messages) for f in self.functions})
 
 
 class Library(dict):
@@ -139,9 +141,11 @@ class Routine(ShowsCode):
     elements. Vector results come back as NumPy arrays.
     """
 
-    def __init__(self, fn: FunctionDef, code, build: Build, written: frozenset = frozenset()):
+    def __init__(self, fn: FunctionDef, code, build: Build, written: frozenset = frozenset(),
+                 messages: typing.Sequence[str] = ()):
         self.function, self.code, self.build = fn, code, build
         self.written = written  # indices of the pointer arguments the routine stores to
+        self.messages = list(messages)  # of the module's loops with max_iterations, by status - 1
         self.name = fn.name
         self.params, self.returns = fn.signature.resolved(build.width, f"'{fn.name}'")
         self._entry = None
@@ -167,6 +171,16 @@ class Routine(ShowsCode):
         if self.returns is not None:
             ret = np.zeros(self.returns.width, self.returns.kind.dtype)
         self._entry(ctypes.addressof(ptrs), None if ret is None else ret.ctypes.data)
+        if self.messages:
+            self._check_loops()
         if ret is None:
             return None
         return ret[0].item() if self.returns.width == 1 else ret
+
+    def _check_loops(self) -> None:
+        """Raise if a loop with ``max_iterations`` ran out during the call (the module's status,
+        reset for the next call; concurrent calls of one module share it)."""
+        status = ctypes.c_int32.from_address(self.code.address(STATUS))
+        number, status.value = status.value, 0
+        if number:
+            raise LoopLimitError(self.messages[number - 1])

@@ -12,7 +12,7 @@ import pytest
 import reactor
 from reactor import (
     Any, ArgumentError, ArityError, As, ControlFlowError, DSLTypeError, Elif, Else, Extract, Float,
-    Float4, Float8, Fma, FmaDisabledError, For, Function, If, Int, Int8, MissingReturnError, Pointer,
+    Bool, Float4, Float8, Fma, FmaDisabledError, For, Function, If, Int, Int8, MissingReturnError, Pointer,
     ReactorError, Return, ScopeError, Select, Variable, WidthMismatchError, While, kernel,
 )
 
@@ -58,10 +58,11 @@ def m_wide_constant():
     Function(f).compile()
 
 
-@case("an operator the kind lacks (% on Float)", DSLTypeError, "not defined for Float")
-def m_float_remainder():
-    def f(x: Float) -> Float:
-        return x % 2.0  # m_float_remainder
+@case("an operator the kind lacks (% on Bool)", DSLTypeError, "not defined for Bool")
+def m_bool_remainder():
+    def f(x: Float) -> Bool:
+        m = x > 0.0
+        return m % m  # m_bool_remainder
     Function(f).compile()
 
 
@@ -263,11 +264,13 @@ def m_python_bool_condition():
     Function(f).compile()
 
 
-@case("a vector mask as an If condition", DSLTypeError, "Bool4 mask", "Any(...) or All(...)")
-def m_mask_condition():
+@case("a uniform Variable assigned under a per-lane If", ControlFlowError, "per-lane condition of 4 lanes",
+      "Variable(Float4")
+def m_uniform_under_mask():
     def f(x: Float4) -> Float4:
-        with If(x > 0.0):  # m_mask_condition
-            pass
+        total = Variable(Float, 0.0)
+        with If(x > 0.0):
+            total.set(1.0)  # m_uniform_under_mask
         return x
     Function(f).compile()
 
@@ -355,12 +358,12 @@ def m_python_return_in_block():
     Function(f).compile()
 
 
-@case("Return in a kernel body", ControlFlowError, "Return in the body of kernel")
+@case("a kernel Return with too few results", DSLTypeError, "Return of 1 value(s)", "gives 2")
 def m_return_in_kernel():
-    def body(x: Float) -> Float:
-        with If(Any(x < 0.0)):
+    def body(x: Float) -> (Float, Float):
+        with If(x < 0.0):
             Return(x)  # m_return_in_kernel
-        return x
+        return x, x
     kernel(body, name="misuse_return")
 
 

@@ -1,0 +1,441 @@
+"""GLSL vectors and matrices: structures of per-lane DSL values.
+
+A ``vec3`` holds three DSL values of one kind and width (one SIMD value per
+component, as SwiftShader's SPIR-V backend holds them), so a kernel's
+``vec3`` is three ``Float16`` in registers::
+
+    n = vec3(nx, ny, nz)                 # components: numbers, scalars or lanes
+    l = vec3(0.3, 0.8, 0.5)
+    c = vec4(n.zyx * 0.5 + 0.5, 1.0)     # swizzles, constructors as in GLSL
+    v = Variable(vec3, 0.0)              # mutable (per lane), v.xy = ..., v.set(...)
+    m = mat3(c0, c1, c2)                 # column-major; m @ v, v @ m, m @ m
+
+Kinds and sizes are a table (``VECTORS``): ``vec2..4`` (Float), ``dvec``
+(Double), ``ivec`` (Int), ``uvec`` (UInt), ``bvec`` (Bool); ``mat2..4``
+(Float, square). Operators act per component, with Python numbers, DSL
+scalars and vectors of the same size on either side; ``%`` is GLSL's
+``mod`` and ``**`` is ``pow``. Comparisons give a ``bvec`` per component
+(NumPy's convention: GLSL's ``equal``/``lessThan``); ``any``/``all`` reduce
+a bvec. ``Select(mask, a, b)`` takes vectors too. Matrix products are
+``@`` (a ``*`` between a matrix and a vector is an error naming ``@``).
+"""
+from __future__ import annotations
+
+import typing
+
+from ..errors import DSLTypeError, ScopeError
+from ..ir import emitter as _em
+from ..ir.types import KINDS, Kind, VType
+from .values import Value, binary, comparison, unary, value_class
+
+_SWIZZLE_SETS = ("xyzw", "rgba", "stpq")
+_OPERATORS = {
+    "add": ("__add__", "__radd__"), "sub": ("__sub__", "__rsub__"), "mul": ("__mul__", "__rmul__"),
+    "div": ("__truediv__", "__rtruediv__"), "rem": ("__mod__", "__rmod__"),
+    "and": ("__and__", "__rand__"), "or": ("__or__", "__ror__"), "xor": ("__xor__", "__rxor__"),
+    "shl": ("__lshift__", "__rlshift__"), "shr": ("__rshift__", "__rrshift__"),
+}
+_COMPARISONS = {"lt": "__lt__", "le": "__le__", "gt": "__gt__", "ge": "__ge__", "eq": "__eq__", "ne": "__ne__"}
+
+
+def _scalar_kind(x) -> Kind | None:
+    if isinstance(x, Value):
+        return x.kind
+    return None
+
+
+def _as_value(x, kind: Kind) -> Value:
+    """A component: a DSL value of ``kind`` (numbers become constants; other kinds convert)."""
+    if isinstance(x, Value):
+        return x if x.kind == kind else value_class(VType(kind, x.width))(x)
+    if isinstance(x, bool) or (kind.category != "bool" and isinstance(x, (int, float))):
+        return value_class(VType(kind, 1))(x)
+    if hasattr(x, "dtype") and getattr(x, "shape", None) == ():  # a NumPy scalar
+        return _as_value(x.item(), kind)
+    raise DSLTypeError(f"{x!r} cannot be a component of a {kind.name} vector")
+
+
+def _swizzle(name: str) -> list[int] | None:
+    for letters in _SWIZZLE_SETS:
+        if all(ch in letters for ch in name):
+            return [letters.index(ch) for ch in name]
+    return None
+
+
+class Vec:
+    """Base class of the vector types (``vec3`` ...): ``size`` components of one ``kind``."""
+
+    kind: Kind
+    size: int
+    _c: tuple[typing.Any, ...]
+    dsl_composite = True  # DSL scalars defer their operators to it
+    __slots__ = ("_c", "_scope")
+
+    def __init__(self, *args):
+        if type(self) is Vec:
+            raise DSLTypeError("Vec is abstract; use vec2, vec3, vec4, ivec3 ...")
+        comps = self._components(args)
+        object.__setattr__(self, "_c", tuple(comps))
+        object.__setattr__(self, "_scope", _em.current().scope if _em.building() else None)
+
+    @classmethod
+    def _components(cls, args) -> list[Value]:
+        n, kind = cls.size, cls.kind
+        if not args:
+            raise DSLTypeError(f"{cls.__name__}() needs components: a scalar to fill it, or {n} values")
+        if len(args) == 1 and not isinstance(args[0], (Vec, Mat)):
+            return [_as_value(args[0], kind)] * n
+        if len(args) == 1 and isinstance(args[0], Vec):
+            if args[0].size < n:
+                raise DSLTypeError(f"{cls.__name__}({type(args[0]).__name__}) needs more components "
+                                   f"({args[0].size} given, {n} needed)")
+            return [_as_value(c, kind) for c in args[0]._c[:n]]  # GLSL: a longer vector is truncated
+        flat: list = []
+        for a in args:
+            flat.extend(a._c if isinstance(a, Vec) else [a])
+        if len(flat) != n:
+            raise DSLTypeError(f"{cls.__name__}(...) takes {n} components, got {len(flat)}")
+        return [_as_value(c, kind) for c in flat]
+
+    @classmethod
+    def _of(cls, comps):
+        """A vector of this class holding the values ``comps`` as they are."""
+        v = object.__new__(cls)
+        object.__setattr__(v, "_c", tuple(comps))
+        object.__setattr__(v, "_scope", _em.current().scope if _em.building() else None)
+        return v
+
+    # -- components and swizzles ------------------------------------------------------
+    def __len__(self) -> int:
+        return self.size
+
+    def __iter__(self):
+        return iter(self._c)
+
+    def __getitem__(self, i: int) -> Value:
+        if not isinstance(i, int) or not -self.size <= i < self.size:
+            raise DSLTypeError(f"{type(self).__name__} index must be an int in [0, {self.size}), not {i!r}")
+        return self._c[i]
+
+    def __getattr__(self, name: str):
+        lanes = _swizzle(name) if name and len(name) <= 4 else None
+        if lanes is None or max(lanes) >= self.size:
+            raise AttributeError(f"{type(self).__name__} has no component or swizzle {name!r}")
+        if len(lanes) == 1:
+            return self._c[lanes[0]]
+        return vec_type(self.kind, len(lanes))._of([self._c[i] for i in lanes])
+
+    def __setattr__(self, name: str, value) -> None:
+        lanes = _swizzle(name)
+        if lanes is None or max(lanes) >= self.size:
+            raise AttributeError(f"{type(self).__name__} has no component or swizzle {name!r}")
+        if len(set(lanes)) != len(lanes):
+            raise DSLTypeError(f"swizzle {name!r} names a component twice; it cannot be assigned")
+        values = value._c if isinstance(value, Vec) else [value] * len(lanes)
+        if len(values) != len(lanes):
+            raise DSLTypeError(f"assigning {len(values)} components to swizzle {name!r}")
+        self._assign(lanes, values)
+
+    def _assign(self, lanes, values) -> None:
+        if _em.building() and _em.current().scope is not self._scope:
+            raise ScopeError(f"a {type(self).__name__} value made outside this block cannot be changed in it "
+                             f"(the change would not follow the block's condition): declare it with "
+                             f"Variable({type(self).__name__}, ...) and assign that")
+        comps = list(self._c)
+        for i, v in zip(lanes, values):
+            comps[i] = _as_value(v, self.kind)
+        object.__setattr__(self, "_c", tuple(comps))
+
+    def set(self, value) -> "Vec":
+        raise DSLTypeError(f"a {type(self).__name__} value cannot be assigned: declare "
+                           f"v = Variable({type(self).__name__}, ...) and use v.set(...)")
+
+    @property
+    def width(self) -> int:
+        """The SIMD width of the components (1: uniform)."""
+        return max(c.width for c in self._c)
+
+    def __bool__(self):
+        raise DSLTypeError(f"a {type(self).__name__} has no Python truth value: use any(...)/all(...) and "
+                           f"If(...) for run-time branches")
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} of {self._c[0].vtype.name}>"
+
+    __hash__ = object.__hash__
+
+    # -- arithmetic ---------------------------------------------------------------------
+    def _map(self, other, fn, what: str, kind: Kind | None = None, reverse: bool = False):
+        if isinstance(other, Mat):
+            return NotImplemented
+        if isinstance(other, Vec):
+            if other.size != self.size:
+                raise DSLTypeError(f"{what}: {type(self).__name__} and {type(other).__name__} differ in size")
+            pairs: typing.Iterable[tuple[typing.Any, typing.Any]] = zip(self._c, other._c)
+        elif isinstance(other, (Value, int, float, bool)) or hasattr(other, "dtype"):
+            pairs = ((c, other) for c in self._c)
+        else:
+            return NotImplemented
+        out = [fn(b, a) if reverse else fn(a, b) for a, b in pairs]
+        return vec_type(kind or out[0].kind, self.size)._of(out)
+
+    def __neg__(self):
+        return type(self)._of([unary("neg", c, "negation") for c in self._c])
+
+    def __pos__(self):
+        return self
+
+    def __invert__(self):
+        return type(self)._of([unary("invert", c, "operator '~'") for c in self._c])
+
+    def __abs__(self):
+        return type(self)._of([unary("abs", c, "abs") for c in self._c])
+
+    def __pow__(self, other):
+        from .values import power
+        return self._map(other, power, "operator '**'")
+
+    def __rpow__(self, other):
+        from .values import power
+        return self._map(other, power, "operator '**'", reverse=True)
+
+    def __matmul__(self, other):
+        if isinstance(other, Mat):  # row vector times matrix: (m^T v)
+            return other.transpose() @ self
+        return NotImplemented
+
+
+def _install_vector_operators() -> None:
+    for op, (fwd, rev) in _OPERATORS.items():
+        what = f"operator '{fwd}'"
+        setattr(Vec, fwd, lambda a, b, _op=op, _w=what: a._map(b, lambda x, y: binary(_op, x, y, _w), _w))
+        setattr(Vec, rev, lambda a, b, _op=op, _w=what: a._map(b, lambda x, y: binary(_op, x, y, _w), _w,
+                                                               reverse=True))
+    for op, dunder in _COMPARISONS.items():
+        setattr(Vec, dunder, lambda a, b, _op=op: a._map(b, lambda x, y: comparison(_op, x, y), "comparison",
+                                                         kind=KINDS["Bool"]))
+
+
+_install_vector_operators()
+
+#: The vector and matrix type names: (kind name, name prefix).
+VECTORS = (("Float", "vec"), ("Double", "dvec"), ("Int", "ivec"), ("UInt", "uvec"), ("Bool", "bvec"))
+SIZES = (2, 3, 4)
+_VEC_TYPES: dict[tuple[str, int], type[Vec]] = {}
+
+
+def vec_type(kind: Kind | str, size: int) -> type[Vec]:
+    """The vector class of ``size`` components of ``kind`` (``vec_type("Float", 3)`` is ``vec3``)."""
+    name = kind if isinstance(kind, str) else kind.name
+    try:
+        return _VEC_TYPES[name, size]
+    except KeyError:
+        raise DSLTypeError(f"no vector of {size} {name} components (sizes 2, 3, 4)") from None
+
+
+for _kind, _prefix in VECTORS:
+    for _n in SIZES:
+        _VEC_TYPES[_kind, _n] = type(f"{_prefix}{_n}", (Vec,), {"kind": KINDS[_kind], "size": _n,
+                                                                 "__slots__": (), "__module__": "reactor"})
+
+
+# -- matrices --------------------------------------------------------------------------------
+
+class Mat:
+    """Base class of the square Float matrices ``mat2``, ``mat3``, ``mat4``: ``size`` columns.
+
+    ``mat3(2.0)`` is 2 on the diagonal; ``mat3(c0, c1, c2)`` takes columns; ``mat3(a, b, ...)``
+    nine scalars in column-major order; ``mat3(m4)`` the upper-left part. ``m[i]`` is column i."""
+
+    size: int
+    _cols: tuple[Vec, ...]
+    dsl_composite = True
+    __slots__ = ("_cols",)
+
+    def __init__(self, *args):
+        n = self.size
+        column = vec_type("Float", n)
+        if len(args) == 1 and isinstance(args[0], Mat):
+            src = args[0]
+            cols = []
+            for j in range(n):
+                comps = [src._cols[j]._c[i] if j < src.size and i < src.size else (1.0 if i == j else 0.0)
+                         for i in range(n)]
+                cols.append(column(*comps))
+        elif len(args) == 1:
+            d = _as_value(args[0], KINDS["Float"])
+            cols = [column(*[d if i == j else 0.0 for i in range(n)]) for j in range(n)]
+        elif len(args) == n and all(isinstance(a, Vec) and a.size == n for a in args):
+            cols = [column(a) for a in args]
+        else:
+            flat: list = []
+            for a in args:
+                flat.extend(a._c if isinstance(a, Vec) else [a])
+            if len(flat) != n * n:
+                raise DSLTypeError(f"{type(self).__name__}(...) takes one scalar, {n} columns or {n * n} "
+                                   f"components, got {len(flat)}")
+            cols = [column(*flat[j * n:(j + 1) * n]) for j in range(n)]
+        object.__setattr__(self, "_cols", tuple(cols))
+
+    @classmethod
+    def _of(cls, cols):
+        m = object.__new__(cls)
+        object.__setattr__(m, "_cols", tuple(cols))
+        return m
+
+    def __getitem__(self, j: int) -> Vec:
+        return self._cols[j]
+
+    def __len__(self) -> int:
+        return self.size
+
+    def transpose(self) -> "Mat":
+        n = self.size
+        return type(self)._of([vec_type("Float", n)._of([self._cols[j]._c[i] for j in range(n)])
+                               for i in range(n)])
+
+    def __matmul__(self, other):
+        n = self.size
+        if isinstance(other, Vec):
+            if other.size != n:
+                raise DSLTypeError(f"{type(self).__name__} @ {type(other).__name__}: sizes differ")
+            acc = self._cols[0] * other._c[0]
+            for j in range(1, n):
+                acc = acc + self._cols[j] * other._c[j]
+            return acc
+        if isinstance(other, Mat):
+            if other.size != n:
+                raise DSLTypeError(f"{type(self).__name__} @ {type(other).__name__}: sizes differ")
+            return type(self)._of([self @ col for col in other._cols])
+        return NotImplemented
+
+    def _map(self, other, fn, product: str | None = None):
+        if product is not None and isinstance(other, (Mat, Vec)):
+            raise DSLTypeError(f"{product}: GLSL's '*' between matrices and vectors is the linear-algebra "
+                               f"product, written with '@' here (matrixCompMult for per component)")
+        if isinstance(other, Mat) and other.size == self.size:
+            return type(self)._of([fn(a, b) for a, b in zip(self._cols, other._cols)])
+        if isinstance(other, Vec):
+            raise DSLTypeError(f"{type(self).__name__} and {type(other).__name__}: a matrix and a vector "
+                               f"combine only with '@'")
+        if isinstance(other, (Value, int, float)) or hasattr(other, "dtype"):
+            return type(self)._of([fn(a, other) for a in self._cols])
+        return NotImplemented
+
+    def __add__(self, other):
+        return self._map(other, lambda a, b: a + b)
+
+    def __sub__(self, other):
+        return self._map(other, lambda a, b: a - b)
+
+    def __mul__(self, other):
+        return self._map(other, lambda a, b: a * b, f"{type(self).__name__} * {type(other).__name__}")
+
+    def __truediv__(self, other):
+        return self._map(other, lambda a, b: a / b)
+
+    def __radd__(self, other):
+        return self._map(other, lambda a, b: b + a)
+
+    def __rsub__(self, other):
+        return self._map(other, lambda a, b: b - a)
+
+    def __rmul__(self, other):
+        return self._map(other, lambda a, b: b * a, f"{type(other).__name__} * {type(self).__name__}")
+
+    def __neg__(self):
+        return type(self)._of([-c for c in self._cols])
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__}>"
+
+
+_MAT_TYPES = {n: type(f"mat{n}", (Mat,), {"size": n, "__slots__": (), "__module__": "reactor"}) for n in SIZES}
+
+
+def mat_type(size: int) -> type[Mat]:
+    return _MAT_TYPES[size]
+
+
+if typing.TYPE_CHECKING:
+    vec2 = vec3 = vec4 = dvec2 = dvec3 = dvec4 = ivec2 = ivec3 = ivec4 = Vec
+    uvec2 = uvec3 = uvec4 = bvec2 = bvec3 = bvec4 = Vec
+    mat2 = mat3 = mat4 = Mat
+else:
+    globals().update({cls.__name__: cls for cls in _VEC_TYPES.values()})
+    globals().update({cls.__name__: cls for cls in _MAT_TYPES.values()})
+
+
+def select(mask, a, b):
+    """``Select`` for vectors: per component (``mask`` a Bool value, or a bvec of the same size)."""
+    from .intrinsics import Select
+    size = next(v.size for v in (a, b) if isinstance(v, Vec))
+    kind = next(v.kind for v in (a, b) if isinstance(v, Vec))
+    masks = mask._c if isinstance(mask, Vec) else [mask] * size
+
+    def comps(v):
+        if isinstance(v, Vec):
+            if v.size != size:
+                raise DSLTypeError("Select: the vectors differ in size")
+            return v._c
+        return [v] * size
+    return vec_type(kind, size)._of([Select(m, x, y) for m, x, y in zip(masks, comps(a), comps(b))])
+
+
+# -- vector variables --------------------------------------------------------------------------
+
+class _VecVariable:
+    """What a vector Variable adds: its components are Variables; reading a swizzle gives a
+    snapshot, assigning one (or ``set``) stores (under the lanes a per-lane block runs)."""
+
+    __slots__ = ()
+
+    def __getattr__(self, name: str):
+        got = Vec.__getattr__(typing.cast(Vec, self), name)
+        if isinstance(got, Vec):
+            return type(got)._of([c.value for c in got._c])
+        return got.value
+
+    def _assign(self, lanes, values) -> None:
+        for i, v in zip(lanes, values):
+            self._c[i].set(v)
+
+    def set(self, value):
+        values = value._c if isinstance(value, Vec) else [value] * self.size
+        if len(values) != self.size:
+            raise DSLTypeError(f"{type(self).__name__}.set: {len(values)} components for {self.size}")
+        for var, v in zip(self._c, values):
+            var.set(v)
+        return self
+
+    @property
+    def value(self) -> Vec:
+        """An immutable snapshot of the current value."""
+        return vec_type(self.kind, self.size)._of([c.value for c in self._c])
+
+
+_VAR_TYPES: dict[type, type[Vec]] = {}
+
+
+def vector_variable(type_or_value, init=None, name: str = "var"):
+    """``Variable(vec3, 0.0)``, ``Variable(vec3)`` (zeros) or ``Variable(v)`` for a vector ``v``."""
+    from .variables import Variable, per_lane
+
+    if isinstance(type_or_value, Vec):
+        cls, init = type(type_or_value), type_or_value
+    else:
+        cls = type_or_value
+    if isinstance(cls, type) and issubclass(cls, _VecVariable):
+        cls = cls.__mro__[2]  # Variable of a Variable: the vector type underneath
+    base = per_lane(VType(cls.kind, 1))
+    start = cls(init if init is not None else (False if cls.kind.category == "bool" else 0)) \
+        if not isinstance(init, Vec) else init
+    if isinstance(start, Vec) and start.size != cls.size:
+        raise DSLTypeError(f"Variable({cls.__name__}, ...): the initial value has {start.size} components")
+    comps = [Variable(value_class(base.with_width(max(base.width, c.width))), c, name=f"{name}.{'xyzw'[i]}")
+             for i, c in enumerate(start._c)]
+    var_cls = _VAR_TYPES.get(cls)
+    if var_cls is None:
+        var_cls = _VAR_TYPES[cls] = type(f"Variable[{cls.__name__}]", (_VecVariable, cls),
+                                         {"__slots__": (), "__module__": "reactor"})
+    return var_cls._of(comps)
