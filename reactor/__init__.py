@@ -17,6 +17,7 @@ from .dsl.intrinsics import (
     RsqrtApprox, ScaleF, Select, Significand, ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc,
     build_settings, fma_mode, precision, target_features,
 )
+from .dsl.calls import RoutineCall, routine_call
 from .dsl.signature import SIMD, Pointer
 from .dsl.values import Value, set_power, vector_type
 from .dsl.vectors import Mat, Vec, mat_type, vec_type
@@ -66,8 +67,8 @@ __all__ = [
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
     "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of",
-    "configure_threads", "thread_settings",
+    "configure_threads", "thread_settings", "RoutineCall", "routine_call",
     # errors
-    "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError", "MissingReturnError",
-    "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",
+    "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
+    "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",
 ]

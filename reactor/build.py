@@ -34,7 +34,10 @@ class Precision(str, enum.Enum):
 
     @classmethod
     def of(cls, value) -> "Precision":
-        """``value`` as a Precision; a clear error for anything else."""
+        """``value`` as a Precision (GLSL's ``highp``, ``mediump`` and ``lowp`` too: Vulkan
+        treats lowp as mediump); a clear error for anything else."""
+        if isinstance(value, str) and value in _GLSL_QUALIFIERS:
+            return cls(_GLSL_QUALIFIERS[value])
         try:
             return cls(value)
         except ValueError:
@@ -43,6 +46,9 @@ class Precision(str, enum.Enum):
 
     def __str__(self) -> str:
         return self.value
+
+
+_GLSL_QUALIFIERS = {"highp": "full", "mediump": "relaxed", "lowp": "relaxed"}
 
 
 @dataclasses.dataclass(frozen=True)

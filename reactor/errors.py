@@ -28,6 +28,9 @@ def library_dirs() -> tuple[str, ...]:
     return tuple(_LIBRARY_DIRS)
 
 
+_CONTEXTLIB = os.path.abspath(contextlib.__file__)  # the library's ``with`` helpers run there
+
+
 def user_frame() -> types.FrameType | None:
     """The innermost frame outside the library (the user's code)."""
     frame: types.FrameType | None = sys._getframe(1)
@@ -35,7 +38,8 @@ def user_frame() -> types.FrameType | None:
     while frame is not None:
         name = frame.f_code.co_filename
         filename = os.path.abspath(name)
-        if not filename.startswith(dirs) and "importlib" not in filename and not name.startswith("<frozen"):
+        if not filename.startswith(dirs) and filename != _CONTEXTLIB and "importlib" not in filename \
+                and not name.startswith("<frozen"):
             return frame
         frame = frame.f_back
     return None

@@ -51,7 +51,7 @@ def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
     def build(*args: typing.Any, precision: typing.Any = None, fma: bool | None = None,
               **kwargs: typing.Any) -> Value:
         level = check_precision(precision, fn.__name__)
-        with fma_mode(fma), reactor.precision(level):
+        with fma_mode(fma), reactor.precision(level), reactor.routine_call(fn.__name__):
             return fn(*args, precision=level, **kwargs)
 
     return build

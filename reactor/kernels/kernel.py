@@ -30,6 +30,7 @@ is given.
 from __future__ import annotations
 
 import ctypes
+import dataclasses
 import gc
 import threading
 import typing
@@ -48,6 +49,7 @@ from ..ir.types import KINDS, PointerType, VType
 from ..dsl.external import External
 from ..jit import cache
 from ..jit.compiler import CompiledCode, ShowsCode, cached_object
+from ..dsl.calls import RoutineCall, calls_of
 from ..dsl.limits import messages_of
 from .recipe import recipe_key
 from . import parallel
@@ -60,9 +62,11 @@ _memo: "dict[tuple, weakref.ref[Kernels]]" = {}
 
 
 class Kernel(ShowsCode):
-    """A compiled kernel: its ufunc's machine code and how it was made."""
+    """A compiled kernel: its ufunc's machine code and how it was made (``routines``: the
+    library routines it calls, with precision, FMA and the user's line)."""
 
     ufunc_ref: "_UfuncRef"  # set when its ufunc is made
+    routines: "list[RoutineCall]"
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
         self.name, self.build = name, build
@@ -113,6 +117,7 @@ class Kernel(ShowsCode):
         if obj is None:
             return None
         self.cycles_per_element, self.messages = found["cycles"], found["messages"]
+        self.routines = [RoutineCall(*call) for call in found.get("routines", [])]
         code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
                             obj=obj, ir_source=lambda: self._module(body)[0].text)
         code.source = f"recipe, {source}"
@@ -122,11 +127,14 @@ class Kernel(ShowsCode):
         build = self.build
         module, self.cycles_per_element = self._module(body)
         self.messages = messages_of(module)
+        self.routines = calls_of(module)
         code = CompiledCode(module.text, build.target, build.opt, exports, build.cache, module.imports)
         if self.recipe:
             cache.recipe_put(self.recipe, {"ir_key": code.key, "cycles": self.cycles_per_element,
                                            "imports": sorted(module.import_libraries.items()),
-                                           "messages": self.messages}, build.cache)
+                                           "messages": self.messages,
+                                           "routines": [dataclasses.astuple(c) for c in self.routines]},
+                             build.cache)
         return code
 
     def __repr__(self):

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..build import Build, current_options
 from ..dsl.function import FunctionDef
+from ..dsl.calls import RoutineCall, calls_of
 from ..dsl.limits import STATUS, messages_of
 from ..errors import ArityError, LoopLimitError, ReactorError
 from ..ir import emitter as _em
@@ -108,11 +109,11 @@ class Module:
 
     def compile_with(self, build: Build) -> "Library":
         mod = self.build(build)
-        messages = messages_of(mod)
+        messages, calls = messages_of(mod), calls_of(mod)
         exports = tuple(f.name + entry.SUFFIX for f in self.functions) + ((STATUS,) if messages else ())
         code = CompiledCode(mod.text, build.target, build.opt, exports, build.cache, mod.imports)
         return Library(code, {f.name: Routine(f, code, build, mod.written.get((f, build.width), frozenset()),
-                                              messages) for f in self.functions})
+                                              messages, calls) for f in self.functions})
 
 
 class Library(dict):
@@ -142,10 +143,11 @@ class Routine(ShowsCode):
     """
 
     def __init__(self, fn: FunctionDef, code, build: Build, written: frozenset = frozenset(),
-                 messages: typing.Sequence[str] = ()):
+                 messages: typing.Sequence[str] = (), calls: typing.Sequence[RoutineCall] = ()):
         self.function, self.code, self.build = fn, code, build
         self.written = written  # indices of the pointer arguments the routine stores to
         self.messages = list(messages)  # of the module's loops with max_iterations, by status - 1
+        self.routines = list(calls)  # the library routines the module calls (RoutineCall)
         self.name = fn.name
         self.params, self.returns = fn.signature.resolved(build.width, f"'{fn.name}'")
         self._entry = None

@@ -1,0 +1,61 @@
+"""Which library routines a build called, at which precision: a list on the compiled code.
+
+A routine library (``routines``) emits each routine inside
+``with routine_call(name):``; the module being built keeps one ``RoutineCall`` per routine,
+precision, FMA setting and user line, in the order of first use. Kernels
+(``kernel_of(u).routines``) and compiled Functions (``f.compile().routines``)
+show the list, so a scene's author sees what every call site cost.
+"""
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import typing
+
+from ..errors import user_location
+from ..ir import emitter as _em
+
+
+@dataclasses.dataclass(frozen=True)
+class RoutineCall:
+    """One routine emitted by a build: ``exp2 relaxed fma=on at shade.py:12``."""
+
+    name: str
+    precision: str  # "full" or "relaxed"
+    fma: bool
+    where: str  # the user's "file:line" ("" when unknown)
+
+    def __str__(self) -> str:
+        at = f" at {self.where}" if self.where else ""
+        return f"{self.name} {self.precision} fma={'on' if self.fma else 'off'}{at}"
+
+
+@contextlib.contextmanager
+def routine_call(name: str) -> typing.Iterator[None]:
+    """Emit a library routine ``name`` in the block: recorded with the settings in force, unless
+    it is inside another routine (pow's exp2 and log2 belong to pow). No-op outside a build."""
+    if not _em.building():
+        yield
+        return
+    em = _em.current()
+    module = em.module
+    depth = getattr(module, "routine_depth", 0)
+    if depth == 0:
+        settings = em.settings
+        loc = user_location()
+        call = RoutineCall(name, settings.precision.value, settings.fma, f"{loc[0]}:{loc[1]}" if loc else "")
+        calls = getattr(module, "routine_calls", None)
+        if calls is None:
+            calls = module.routine_calls = []
+        if call not in calls:
+            calls.append(call)
+    module.routine_depth = depth + 1
+    try:
+        yield
+    finally:
+        module.routine_depth = depth
+
+
+def calls_of(module) -> list[RoutineCall]:
+    """The routines a module's build recorded, in order of first use."""
+    return list(getattr(module, "routine_calls", []))
