@@ -39,16 +39,13 @@ def routine_call(name: str) -> typing.Iterator[None]:
         return
     em = _em.current()
     module = em.module
-    depth = getattr(module, "routine_depth", 0)
+    depth = module.routine_depth
     if depth == 0:
         settings = em.settings
         loc = user_location()
         call = RoutineCall(name, settings.precision.value, settings.fma, f"{loc[0]}:{loc[1]}" if loc else "")
-        calls = getattr(module, "routine_calls", None)
-        if calls is None:
-            calls = module.routine_calls = []
-        if call not in calls:
-            calls.append(call)
+        if call not in module.routine_calls:
+            module.routine_calls.append(call)
     module.routine_depth = depth + 1
     try:
         yield
@@ -58,4 +55,4 @@ def routine_call(name: str) -> typing.Iterator[None]:
 
 def calls_of(module) -> list[RoutineCall]:
     """The routines a module's build recorded, in order of first use."""
-    return list(getattr(module, "routine_calls", []))
+    return list(module.routine_calls)

@@ -21,9 +21,7 @@ _I32 = VType(KINDS["Int"], 1)
 def report_runaway(em, loop) -> None:
     """Emit: the loop ``loop`` ran out of iterations (at the cursor)."""
     module = em.module
-    messages = getattr(module, "runaway_messages", None)
-    if messages is None:
-        messages = module.runaway_messages = []
+    messages = module.runaway_messages
     where = getattr(loop, "_created", None)
     at = f" at {where[0]}:{where[1]}" if where else ""
     messages.append(f"{loop.what} loop{at} ran {loop._max} iterations (its max_iterations) and was stopped: "
@@ -33,4 +31,4 @@ def report_runaway(em, loop) -> None:
 
 def messages_of(module) -> list[str]:
     """The messages of the module's limited loops, by status number - 1."""
-    return list(getattr(module, "runaway_messages", []))
+    return list(module.runaway_messages)

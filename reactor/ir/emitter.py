@@ -75,6 +75,10 @@ class ModuleEmitter:
         self.import_libraries: dict[str, str | None] = {}  # external symbol -> its library
         self._text: str | None = None
         self.written: dict[object, frozenset] = {}  # (Function, width) -> pointer parameters it stores to
+        # what the DSL notes for the caller (reactor.dsl.calls, reactor.dsl.limits):
+        self.routine_calls: list = []  # RoutineCall, in order of first use
+        self.routine_depth = 0  # > 0 while a routine emits (its inner routines are its own)
+        self.runaway_messages: list[str] = []  # of loops with max_iterations, by status - 1
 
     def counter(self, name: str):
         """A module-level 32-bit integer variable initialized to 0 (made once per name), visible
