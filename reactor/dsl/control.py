@@ -127,7 +127,7 @@ class If(_Block):
         lanes = lanes_of(em)
         lanes.frame.conds.append(mask)
         body, self._merge = em.new_block("lanes.if"), em.new_block("lanes.end")
-        em.cbranch(Any(lanes.active()).ir, body, self._merge)
+        self._guard = (em.cbranch(Any(lanes.active()).ir, body, self._merge), body)
         em.goto(body)
         self._open(em)
 
@@ -138,6 +138,7 @@ class If(_Block):
         em = self._em
         if self._varying:
             lanes_of(em).frame.conds.pop()
+            _unguard_if_cheap(em, self._guard)
             em.branch_to(self._merge)
             em.goto(self._merge)
             em.pending_chain = ("lanes", self, self._merge)
@@ -148,6 +149,19 @@ class If(_Block):
         em.goto(self._merge)
         em.pending_chain = (self._else, self._merge, em.mark())
         return False
+
+
+#: A per-lane block of at most this many straight-line instructions runs for every lane (its
+#: assignments are masked anyway): below this, testing whether any lane is active (a reduction and a
+#: branch, ~2-3 cycles a vector) costs more than it saves (benchmarks/bench_masks.py measures both sides).
+CHEAP_BLOCK = 40
+
+
+def _unguard_if_cheap(em, guard) -> None:
+    """Drop the "any lane active?" test of a per-lane block whose body is one cheap block."""
+    branch, body = guard
+    if em.block is body and em.straight_and_cheap(body, CHEAP_BLOCK):
+        em.always_take(branch)
 
 
 def _claim_chain(what: str):
@@ -201,7 +215,7 @@ class Else(_Block):
             lanes = lanes_of(em)
             lanes.frame.conds.append(~prev._taken)
             body, self._merge = em.new_block("lanes.else"), em.new_block("lanes.end")
-            em.cbranch(Any(typing.cast(Value, lanes.active())).ir, body, self._merge)
+            self._guard = (em.cbranch(Any(typing.cast(Value, lanes.active())).ir, body, self._merge), body)
             em.goto(body)
             self._open(em)
             return
@@ -216,6 +230,7 @@ class Else(_Block):
         self._close()
         if self._varying:
             lanes_of(self._em).frame.conds.pop()
+            _unguard_if_cheap(self._em, self._guard)
         self._em.branch_to(self._merge)
         self._em.goto(self._merge)
         return False

@@ -401,8 +401,39 @@ class FunctionEmitter:
         if not self._b.block.is_terminated:
             self._b.branch(target)
 
-    def cbranch(self, cond, then_block: ir.Block, else_block: ir.Block) -> None:
-        self._b.cbranch(cond, then_block, else_block)
+    def cbranch(self, cond, then_block: ir.Block, else_block: ir.Block):
+        return self._b.cbranch(cond, then_block, else_block)
+
+    def always_take(self, branch) -> None:
+        """Make a conditional branch (from ``cbranch``) always go to its first target (LLVM then
+        drops the test and the other edge)."""
+        branch.operands[0] = ir.Constant(ir.IntType(1), 1)
+
+    @staticmethod
+    def straight_and_cheap(block: ir.Block, limit: int) -> bool:
+        """Whether ``block`` is at most ``limit`` instructions of arithmetic, comparisons, selects,
+        lane moves and pure intrinsics, besides accesses to local variables (which registers
+        replace): safe and cheap to run for no lane at all (no memory but allocas, no calls but
+        ``llvm.*``, no control flow)."""
+        work = 0
+        for inst in block.instructions:
+            op = inst.opname
+            if op in ("load", "store"):
+                ptr = inst.operands[0] if op == "load" else inst.operands[1]
+                if not isinstance(ptr, ir.AllocaInstr):
+                    return False
+                continue
+            work += 1
+            if work > limit:
+                return False
+            if op == "call":
+                callee = getattr(inst, "callee", None)
+                if not getattr(callee, "name", "").startswith("llvm.") or "mxcsr" in callee.name:
+                    return False
+            elif op in ("br", "ret", "switch", "unreachable", "alloca", "phi", "atomicrmw", "cmpxchg",
+                        "getelementptr"):
+                return False
+        return True
 
     def phi(self, t, incoming, name: str = "phi"):
         """A phi node of reactor type ``t`` with ``[(value, block), ...]``."""

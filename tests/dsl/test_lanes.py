@@ -234,3 +234,29 @@ def test_a_uniform_variable_under_a_per_lane_condition_is_an_error_naming_the_fi
     with pytest.raises(reactor.ControlFlowError) as e:
         kernel(bad)
     assert "test_lanes.py" in str(e.value) and "one value per lane" in str(e.value)
+
+
+def test_cheap_blocks_run_unguarded_and_expensive_ones_are_skipped_when_no_lane_enters():
+    import routines
+
+    @kernel(width=16)
+    def cheap(x: Float) -> Float:
+        y = Variable(x)
+        with If(x > 0.5):
+            y.set(x * 2.0 + 1.0)
+        return y
+
+    @kernel(width=16)
+    def costly(x: Float) -> Float:
+        y = Variable(x)
+        with If(x > 0.5):
+            y.set(routines.pow(x, 2.4) + routines.exp2(x) * routines.log2(x))
+        return y
+
+    def guards(u):  # the "any lane active?" branches left (a cheap block's is 'br i1 1')
+        import re
+        return len(re.findall(r'br i1 %.*label %"lanes.if"', reactor.kernel_of(u).code.ir_text))
+
+    assert guards(cheap) == 0 and guards(costly) == 1
+    x = _data(50)
+    np.testing.assert_array_equal(cheap(x), np.where(x > 0.5, x * 2 + 1, x))
