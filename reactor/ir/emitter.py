@@ -427,8 +427,8 @@ class FunctionEmitter:
             if work > limit:
                 return False
             if op == "call":
-                callee = getattr(inst, "callee", None)
-                if not getattr(callee, "name", "").startswith("llvm.") or "mxcsr" in callee.name:
+                callee_name = str(getattr(getattr(inst, "callee", None), "name", ""))
+                if not callee_name.startswith("llvm.") or "mxcsr" in callee_name:
                     return False
             elif op in ("br", "ret", "switch", "unreachable", "alloca", "phi", "atomicrmw", "cmpxchg",
                         "getelementptr"):
