@@ -1,4 +1,5 @@
-"""routines: float32 exp2, log2, pow (and exp, log, rcp, rsqrt, sqrt) for reactor.
+"""routines: float32 exp2, log2, pow (and exp, log, rcp, rsqrt, sqrt), sin, cos, tan, asin,
+acos, atan, atan2, sinh, cosh and tanh for reactor.
 
 Each routine is a DSL builder usable inside any reactor Function or kernel, in
 "full" (Vulkan highp) or "relaxed" (Vulkan mediump / RelaxedPrecision)
@@ -15,5 +16,7 @@ from .kernels import NAMES, jit
 from .logarithm import log, log2
 from .power import pow  # noqa: A004 - the routine's public name
 from .reciprocal import rcp, rsqrt, sqrt
+from .trig import acos, asin, atan, atan2, cos, cosh, sin, sinh, tan, tanh
 
-__all__ = ["exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt", "jit", "NAMES"]
+__all__ = ["exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt", "sin", "cos", "tan", "asin", "acos",
+           "atan", "atan2", "sinh", "cosh", "tanh", "jit", "NAMES"]

@@ -9,20 +9,24 @@ from . import exponential as _exp2
 from . import logarithm as _log2
 from . import power as _power
 from . import reciprocal as _recip
+from . import trig as _trig
 from .base import check_precision
 
 UNARY = {
     "exp2": _exp2.exp2, "exp": _exp2.exp, "log2": _log2.log2, "log": _log2.log,
     "rcp": _recip.rcp, "rsqrt": _recip.rsqrt, "sqrt": _recip.sqrt,
+    "sin": _trig.sin, "cos": _trig.cos, "tan": _trig.tan, "asin": _trig.asin, "acos": _trig.acos,
+    "atan": _trig.atan, "sinh": _trig.sinh, "cosh": _trig.cosh, "tanh": _trig.tanh,
 }
-BINARY = {"pow": _power.pow}
+BINARY = {"pow": _power.pow, "atan2": _trig.atan2}
 NAMES = tuple(UNARY) + tuple(BINARY)
 
 
 def jit(name: str, precision="full", fma: bool | None = None, width: int | None = None,
         target: str | None = None):
     """The ufunc computing routine ``name`` ("exp2", "log2", "pow", "exp", "log",
-    "rcp", "rsqrt", "sqrt") in ``precision`` ("full"/"relaxed"), with FMA on or
+    "rcp", "rsqrt", "sqrt", "sin", "cos", "tan", "asin", "acos", "atan", "sinh",
+    "cosh", "tanh"; binary: "pow" and "atan2", called as atan2(y, x)) in ``precision`` ("full"/"relaxed"), with FMA on or
     off (None: fused where the target has FMA), at SIMD ``width`` (None: the
     target's natural width) for ``target`` (None: this CPU). Built once per
     variant and process (and cached on disk). Its name and doc state the

@@ -40,6 +40,16 @@ NOTES = {
     "log2": "Subnormal inputs are exact in both precisions (exponent extraction normalizes them).",
     "pow": "IEEE 754 powr semantics, from exp2(y * log2(x)) with no extra code.",
     "rcp": "|x| > 2^126 gives the correctly rounded subnormal 1/x (RCP14 does not flush).",
+    "sin": "Vulkan bounds sin only inside [-pi, pi]; the routine reduces every finite argument "
+           "exactly (Payne-Hanek above 2^17), so it stays accurate far outside (the accuracy lab "
+           "reports the error there separately).",
+    "cos": "cos(x) = 1 exactly for |x| <= 2^-12; cos(fl(pi/2)) = -4.371139e-8, the float32 of the "
+           "exact value.",
+    "atan2": "C99/IEEE 754 special cases, y first: atan2(y, x). The sign of a zero x is read from its "
+             "sign bit, so -0 counts as negative (atan2(+-0, -0) = +-pi).",
+    "sinh": "sinh and cosh overflow where e^|x|/2 does (|x| > 89.4159851), not where e^|x| does "
+            "(88.7228391): the exponential is scaled by 2^(k-1) in one step.",
+    "tanh": "tanh(x) rounds to +-1 for |x| > 9.0109; no result is above 1 in magnitude.",
 }
 
 
@@ -125,7 +135,71 @@ def _recip_rows():
     return r
 
 
-ROWS: tuple[Row, ...] = tuple(_exp_rows() + _log_rows() + _pow_rows() + _recip_rows())
+PIO2 = _f32(np.pi / 2)
+PI32 = _f32(np.pi)
+ONE_UP = float(np.nextafter(np.float32(1), np.float32(2)))  # 1 + 2^-23
+
+
+def _trig_rows():
+    r = []
+    for fn in ("sin", "tan"):
+        r += [Row(fn, (0.0,), 0.0, "+0"), Row(fn, (-0.0,), -0.0, "-0"), Row(fn, (INF,), NAN, "+inf"),
+              Row(fn, (-INF,), NAN, "-inf"), Row(fn, (NAN,), NAN, "NaN"),
+              Row(fn, (TINY,), TINY, "subnormal: x"), Row(fn, (-TINY,), -TINY, "negative subnormal: x"),
+              Row(fn, (1e-20,), _f32(1e-20), "tiny: x")]
+    r += [Row("cos", (0.0,), 1.0, "+0"), Row("cos", (-0.0,), 1.0, "-0"), Row("cos", (INF,), NAN, "+inf"),
+          Row("cos", (-INF,), NAN, "-inf"), Row("cos", (NAN,), NAN, "NaN"),
+          Row("cos", (TINY,), 1.0, "subnormal: 1"), Row("cos", (-1e-20,), 1.0, "tiny: 1"),
+          Row("cos", (PIO2,), _f32(np.cos(np.float64(PIO2))), "fl(pi/2): -4.371139e-8"),
+          Row("sin", (PIO2,), 1.0, "fl(pi/2): 1"), Row("sin", (3e38,), _f32(np.sin(np.float64(_f32(3e38)))),
+                                                        "3e38: Payne-Hanek reduction", ("full",))]
+    for fn in ("asin", "acos"):
+        r += [Row(fn, (ONE_UP,), NAN, "1 + 2^-23: NaN"), Row(fn, (-ONE_UP,), NAN, "-(1 + 2^-23): NaN"),
+              Row(fn, (2.0,), NAN, "|x| > 1: NaN"), Row(fn, (INF,), NAN, "+inf"), Row(fn, (-INF,), NAN, "-inf"),
+              Row(fn, (NAN,), NAN, "NaN")]
+    r += [Row("asin", (0.0,), 0.0, "+0"), Row("asin", (-0.0,), -0.0, "-0"), Row("asin", (1.0,), PIO2, "1: pi/2"),
+          Row("asin", (-1.0,), -PIO2, "-1: -pi/2"), Row("asin", (TINY,), TINY, "subnormal: x"),
+          Row("acos", (0.0,), PIO2, "+0: pi/2"), Row("acos", (-0.0,), PIO2, "-0: pi/2"),
+          Row("acos", (1.0,), 0.0, "1: +0"), Row("acos", (-1.0,), PI32, "-1: pi"),
+          Row("acos", (TINY,), PIO2, "subnormal: pi/2")]
+    r += [Row("atan", (0.0,), 0.0, "+0"), Row("atan", (-0.0,), -0.0, "-0"), Row("atan", (INF,), PIO2, "+inf: pi/2"),
+          Row("atan", (-INF,), -PIO2, "-inf: -pi/2"), Row("atan", (NAN,), NAN, "NaN"),
+          Row("atan", (TINY,), TINY, "subnormal: x"), Row("atan", (1e30,), PIO2, "huge: pi/2"),
+          Row("atan", (-1e30,), -PIO2, "-huge: -pi/2")]
+    a = "atan2"
+    r += [Row(a, (0.0, 0.0), 0.0, "(+0, +0) = +0"), Row(a, (-0.0, 0.0), -0.0, "(-0, +0) = -0"),
+          Row(a, (0.0, -0.0), PI32, "(+0, -0) = +pi"), Row(a, (-0.0, -0.0), -PI32, "(-0, -0) = -pi"),
+          Row(a, (0.0, -3.0), PI32, "(+0, x<0) = +pi"), Row(a, (-0.0, -3.0), -PI32, "(-0, x<0) = -pi"),
+          Row(a, (0.0, 3.0), 0.0, "(+0, x>0) = +0"), Row(a, (-0.0, 3.0), -0.0, "(-0, x>0) = -0"),
+          Row(a, (2.0, 0.0), PIO2, "(y>0, +0) = pi/2"), Row(a, (2.0, -0.0), PIO2, "(y>0, -0) = pi/2"),
+          Row(a, (-2.0, 0.0), -PIO2, "(y<0, +0) = -pi/2"), Row(a, (-2.0, -0.0), -PIO2, "(y<0, -0) = -pi/2"),
+          Row(a, (2.0, -INF), PI32, "(y>0, -inf) = +pi"), Row(a, (-2.0, -INF), -PI32, "(y<0, -inf) = -pi"),
+          Row(a, (2.0, INF), 0.0, "(y>0, +inf) = +0"), Row(a, (-2.0, INF), -0.0, "(y<0, +inf) = -0"),
+          Row(a, (INF, 5.0), PIO2, "(+inf, x) = pi/2"), Row(a, (-INF, -5.0), -PIO2, "(-inf, x) = -pi/2"),
+          Row(a, (INF, INF), _f32(np.pi / 4), "(+inf, +inf) = pi/4"),
+          Row(a, (-INF, INF), -_f32(np.pi / 4), "(-inf, +inf) = -pi/4"),
+          Row(a, (INF, -INF), _f32(3 * np.pi / 4), "(+inf, -inf) = 3pi/4"),
+          Row(a, (-INF, -INF), -_f32(3 * np.pi / 4), "(-inf, -inf) = -3pi/4"),
+          Row(a, (NAN, 1.0), NAN, "(NaN, x) = NaN"), Row(a, (1.0, NAN), NAN, "(y, NaN) = NaN"),
+          Row(a, (NAN, INF), NAN, "(NaN, inf) = NaN"), Row(a, (0.0, NAN), NAN, "(0, NaN) = NaN"),
+          Row(a, (TINY, 1e30), 0.0, "underflow of y/x: +0"),
+          Row(a, (1e30, TINY), PIO2, "overflow of y/x: pi/2"),
+          Row(a, (MAX_FLOAT, MAX_FLOAT), _f32(np.pi / 4), "FLT_MAX on the diagonal: pi/4", ("full",))]
+    for fn in ("sinh", "tanh"):
+        r += [Row(fn, (0.0,), 0.0, "+0"), Row(fn, (-0.0,), -0.0, "-0"), Row(fn, (NAN,), NAN, "NaN"),
+              Row(fn, (TINY,), TINY, "subnormal: x"), Row(fn, (-1e-20,), -_f32(1e-20), "tiny: x")]
+    r += [Row("sinh", (INF,), INF, "+inf"), Row("sinh", (-INF,), -INF, "-inf"),
+          Row("sinh", (89.5,), INF, "overflow: x > 89.4159851"), Row("sinh", (-89.5,), -INF, "x < -89.4159851"),
+          Row("sinh", (1000.0,), INF, "far above overflow"),
+          Row("cosh", (0.0,), 1.0, "+0"), Row("cosh", (-0.0,), 1.0, "-0"), Row("cosh", (INF,), INF, "+inf"),
+          Row("cosh", (-INF,), INF, "-inf"), Row("cosh", (NAN,), NAN, "NaN"), Row("cosh", (TINY,), 1.0, "subnormal: 1"),
+          Row("cosh", (89.5,), INF, "overflow: |x| > 89.4159851"), Row("cosh", (-89.5,), INF, "-89.5: +inf"),
+          Row("tanh", (INF,), 1.0, "+inf: 1"), Row("tanh", (-INF,), -1.0, "-inf: -1"),
+          Row("tanh", (10.0,), 1.0, "10: 1"), Row("tanh", (-1000.0,), -1.0, "-1000: -1")]
+    return r
+
+
+ROWS: tuple[Row, ...] = tuple(_exp_rows() + _log_rows() + _pow_rows() + _recip_rows() + _trig_rows())
 
 
 @dataclasses.dataclass(frozen=True)
@@ -166,12 +240,37 @@ def _rsqrt_powers():
     return (x,), np.ldexp(np.float64(1.0), -k).astype(np.float32)
 
 
+def _tiny_grid():
+    """Every power of two from 2^-149 to 2^-12, and 64 random significands per binade above 2^-126."""
+    rng = np.random.default_rng(0)
+    k = np.arange(-126, -12)
+    x = np.ldexp(1.0 + rng.random((k.size, 64)), k[:, None]).ravel()
+    x = np.concatenate([np.ldexp(1.0, np.arange(-149, -11)), x]).astype(np.float32)
+    x = np.concatenate([x, -x])
+    return x[np.abs(x) <= 2.0 ** -12]
+
+
+def _identity_near_zero():
+    x = _tiny_grid()
+    return (x,), x
+
+
+def _one_near_zero():
+    x = _tiny_grid()
+    return (x,), np.ones_like(x)
+
+
 RULES: tuple[Rule, ...] = (
     Rule("exp2", "exp2(k) = 2^k exactly for every integer k in [-126, 127]", _exp2_integers),
     Rule("log2", "log2(2^k) = k exactly for every k in [-149, 127] (subnormals included)", _log2_powers),
     Rule("pow", "pow(2, k) = 2^k exactly for every integer k in [-126, 127]", _pow_two_integers),
     Rule("rcp", "rcp(2^k) = 2^-k exactly for k in [-126, 126]", _rcp_powers),
     Rule("rsqrt", "rsqrt(4^k) = 2^-k exactly for k in [-63, 63]", _rsqrt_powers),
+    *(Rule(fn, f"{fn}(x) = x exactly for 0 < |x| <= 2^-12 (subnormals included)", _identity_near_zero)
+      for fn in ("sin", "tan", "asin", "atan", "sinh", "tanh")),
+    Rule("cos", "cos(x) = 1 exactly for 0 < |x| <= 2^-12 (subnormals included)", _one_near_zero),
+    Rule("cosh", "cosh(x) = 1 exactly for 0 < |x| <= 2^-12 (subnormals included; relaxed: within "
+                 "RCP14's 2^-14 of 1)", _one_near_zero, ("full",)),
 )
 
 
@@ -196,7 +295,8 @@ def _fmt(v: float) -> str:
 def markdown() -> str:
     """The tables of docs/specials.md, one per function."""
     out = []
-    for fn in ("exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt"):
+    for fn in ("exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt",
+               "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh"):
         out.append(f"### {fn}\n")
         out.append("| input | result | case | precisions |\n|---|---|---|---|")
         for row in (r for r in ROWS if r.function == fn):

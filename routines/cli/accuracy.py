@@ -7,8 +7,11 @@ non-conforming inputs, special-value mismatches, flushes to zero and the 10
 worst inputs.
 
 Default: a quick sample (every hard region plus ``--samples`` random inputs).
-``--exhaustive``: all 2^32 float32 inputs across both cores (~40-60 s), or for
-pow the stratified sweep of >= 2^30 pairs (routines/lab/pairs.py).
+``--exhaustive``: all 2^32 float32 inputs across both cores (~40-60 s; sin,
+cos and tan ~2 min: the float64 reference is glibc's), or for pow and atan2
+the stratified sweep of >= 2^30 pairs (routines/lab/pairs.py; atan2(y, x)
+takes y first). For sin, cos and tan the errors inside and outside [-pi, pi]
+are reported apart (Vulkan bounds only the inside).
 """
 from __future__ import annotations
 
@@ -21,7 +24,7 @@ from reactor import WIDTHS
 from .. import NAMES, jit
 from ..base import PRECISIONS
 from ..lab import evaluate, sample_inputs, sweep
-from ..lab.pairs import stratified_pow
+from ..lab.pairs import STRATA_OF, stratified
 from . import add_quiet, parser as command_parser, positive_int
 
 
@@ -31,8 +34,8 @@ def measure(name: str, precision: str, fma: bool, *, width=None, exhaustive=Fals
     ufunc = jit(name, precision, fma, width)
     if not exhaustive:
         return evaluate(ufunc, name, precision, *sample_inputs(name, samples))
-    if name == "pow":
-        return stratified_pow(ufunc, precision, workers=workers, progress=progress)
+    if name in STRATA_OF:
+        return stratified(ufunc, name, precision, workers=workers, progress=progress)
     return sweep(ufunc, name, precision, workers=workers, progress=progress)
 
 
@@ -40,12 +43,13 @@ def main(argv: list[str]) -> int:
     parser = command_parser("accuracy", __doc__, (
         "exp2 --precision relaxed --fma off",
         "log2 --exhaustive --json out/accuracy/log2_full_fma.json",
-        "pow --samples 100000 --width 8"))
+        "pow --samples 100000 --width 8", "sin --precision full --fma on --exhaustive"))
     parser.add_argument("function", choices=NAMES)
     parser.add_argument("--precision", choices=PRECISIONS, default="full")
     parser.add_argument("--fma", choices=("on", "off"), default="on")
     parser.add_argument("--width", type=int, choices=WIDTHS, help="SIMD lanes (default: the target's)")
-    parser.add_argument("--exhaustive", action="store_true", help="every float32 input (pow: >= 2^30 pairs)")
+    parser.add_argument("--exhaustive", action="store_true",
+                        help="every float32 input (pow, atan2: >= 2^30 pairs)")
     parser.add_argument("--samples", type=positive_int, metavar="N", default=2 ** 20,
                         help="random inputs in quick mode (default 2^20)")
     parser.add_argument("--workers", type=positive_int, metavar="N", default=2,

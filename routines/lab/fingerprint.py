@@ -5,7 +5,7 @@ computes. ``fingerprints()`` runs every variant (function x precision x FMA x
 width) on the same 2^24 inputs (every 256th float32 bit pattern with a moving
 offset, so every binade and both signs are covered, with the special values and
 thresholds first) and hashes the output bits, NaN payloads included. Two runs
-agree iff every output bit agrees. ``pow`` pairs these x with y drawn from
+agree iff every output bit agrees. ``pow`` (and ``atan2``) pairs these x with y drawn from
 small integers, halves, specials and a wide sweep.
 
     python -m routines fingerprint [--json FILE] [--compare FILE] [--target T]
@@ -21,6 +21,7 @@ import sys
 import numpy as np
 
 from ..base import PRECISIONS
+from .reference import BINARY
 
 N = 2 ** 24
 
@@ -74,7 +75,7 @@ def fingerprint(name: str, precision: str, fma: bool, width: int, target: str | 
     """SHA-256 of the output bits of one variant on the fingerprint inputs, contiguous and strided."""
     import routines
     fn = routines.jit(name, precision=precision, fma=fma, width=width, target=target)
-    args = pow_inputs(n) if name == "pow" else (unary_inputs(n),)
+    args = pow_inputs(n) if name in BINARY else (unary_inputs(n),)  # atan2: the same pairs
     h = hashlib.sha256()
     h.update(fn(*args).view(np.uint32).tobytes())
     strided = tuple(a[: n // 64 * 2: 2] for a in args)  # the strided path of the same kernel

@@ -15,7 +15,23 @@ rsqrt  ``1.0 / np.sqrt(x)``               rsqrt(+-0) = +-inf, rsqrt(x<0) = NaN
 sqrt   ``np.sqrt``                        sqrt(-0) = -0, sqrt(x<0) = NaN
 pow    ``np.power`` for finite x > 0,     the exact value of exp2(y*log2(x))
        x != 1                             with IEEE rules at each step
+sin    ``np.sin`` (glibc: exact argument  sin(+-0) = +-0, sin(+-inf) = NaN
+       reduction for every double)
+cos    ``np.cos``                         cos(+-inf) = NaN
+tan    ``np.tan``                         tan(+-0) = +-0, tan(+-inf) = NaN
+asin   ``np.arcsin``                      asin(+-0) = +-0, NaN outside [-1, 1]
+acos   ``np.arccos``                      acos(1) = +0, NaN outside [-1, 1]
+atan   ``np.arctan``                      atan(+-inf) = +-pi/2
+atan2  ``np.arctan2`` (C99 atan2)         atan2(+-0, -0) = +-pi, atan2(+-inf, -inf)
+                                          = +-3pi/4, ...: every C99 special case
+sinh   ``np.sinh`` (x clipped to +-1000)  sinh(+-inf) = +-inf, sinh(-0) = -0
+cosh   ``np.cosh`` (x clipped to +-1000)  cosh(+-inf) = +inf
+tanh   ``np.tanh``                        tanh(+-inf) = +-1, tanh(-0) = -0
 =====  =================================  =====================================
+
+The binary functions take their operands in the routine's order:
+``reference("atan2", a, b)`` is atan2(a, b), the angle of the point (b, a);
+the lab calls the first operand ``x`` and the second ``y`` throughout.
 
 pow follows its Vulkan/GLSL definition exp2(y * log2(x)) rather than C99
 ``powf``: x < 0 gives NaN (log2 of a negative), pow(+-0, y>0) = +0,
@@ -41,8 +57,10 @@ import numpy as np
 
 from .measures import MIN_NORMAL32, OVERFLOW32
 
-FUNCS = ("exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt")
-ARITY = {f: 2 if f == "pow" else 1 for f in FUNCS}
+FUNCS = ("exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt",
+         "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh")
+BINARY = ("pow", "atan2")
+ARITY = {f: 2 if f in BINARY else 1 for f in FUNCS}
 
 _F64 = np.float64
 
@@ -51,7 +69,10 @@ _F64 = np.float64
 #: are clipped there (keeping +-inf) to stay off NumPy's slow float64
 #: overflow/underflow path.  The clipped reference still rounds to the same
 #: float32 (+-inf or +0) and differs from the exact value by < 2**-800 ULP-32.
-_EXP_CLIP = {"exp2": 1000.0, "exp": 690.0}
+_EXP_CLIP = {"exp2": 1000.0, "exp": 690.0, "sinh": 1000.0, "cosh": 1000.0}
+_CLIPPED = {"exp2": np.exp2, "exp": np.exp, "sinh": np.sinh, "cosh": np.cosh}
+_PLAIN = {"log2": np.log2, "log": np.log, "sqrt": np.sqrt, "sin": np.sin, "cos": np.cos,
+          "tan": np.tan, "asin": np.arcsin, "acos": np.arccos, "atan": np.arctan, "tanh": np.tanh}
 
 
 def _exp(func, x, out):
@@ -60,20 +81,21 @@ def _exp(func, x, out):
                   dtype=_F64)
     infinite = np.flatnonzero(np.isinf(x))
     out.flat[infinite] = x.flat[infinite]
-    return (np.exp2 if func == "exp2" else np.exp)(out, out=out)
+    return _CLIPPED[func](out, out=out)
 
 
 def _unary(func, x, out):
-    if func in ("exp2", "exp"):
+    if func in _CLIPPED:
         return _exp(func, x, out)
-    if func == "log2":
-        return np.log2(x, out=out, dtype=_F64)
-    if func == "log":
-        return np.log(x, out=out, dtype=_F64)
+    if func in ("asin", "acos"):  # NumPy is slow outside the domain (the invalid flag): NaN directly
+        out = np.clip(x, -1.0, 1.0, out=np.empty(x.shape) if out is None else out, dtype=_F64)
+        _PLAIN[func](out, out=out)
+        np.copyto(out, np.nan, where=np.abs(x) > 1)
+        return out
+    if func in _PLAIN:
+        return _PLAIN[func](x, out=out, dtype=_F64)
     if func == "rcp":
         return np.divide(1.0, x, out=out, dtype=_F64)
-    if func == "sqrt":
-        return np.sqrt(x, out=out, dtype=_F64)
     if func == "rsqrt":
         out = np.sqrt(x, out=out, dtype=_F64)
         return np.divide(1.0, out, out=out)
@@ -98,13 +120,20 @@ def reference(func, x, y=None, out=None):
     """
     x = np.asarray(x, dtype=np.float32)
     with np.errstate(all="ignore"):
-        if func == "pow":
+        if func in BINARY:
             if y is None:
-                raise ValueError("pow needs y")
-            return _pow(x, np.asarray(y, dtype=np.float32), out)
+                raise ValueError(f"{func} needs y")
+            y = np.asarray(y, dtype=np.float32)
+            if func == "pow":
+                return _pow(x, y, out)
+            return np.arctan2(x, y, out=out, dtype=_F64)
         if y is not None:
             raise ValueError(f"{func} is unary")
         return _unary(func, x, out)
+
+
+_MPMATH = {"sin": mpmath.sin, "cos": mpmath.cos, "tan": mpmath.tan, "atan": mpmath.atan,
+           "sinh": mpmath.sinh, "cosh": mpmath.cosh, "tanh": mpmath.tanh}
 
 
 def _exact(func, x, y):
@@ -112,6 +141,14 @@ def _exact(func, x, y):
     X = mpmath.mpf(float(x))
     if not mpmath.isfinite(X):
         return None
+    if func in _MPMATH:  # mpmath raises its working precision for the reduction of large x
+        return _MPMATH[func](X)
+    if func in ("asin", "acos"):
+        return None if abs(X) > 1 else (mpmath.asin(X) if func == "asin" else mpmath.acos(X))
+    if func == "atan2":
+        Y = mpmath.mpf(float(y))
+        # zero operands: the result's sign and +-pi depend on signed zeros (fixed by C99, tested)
+        return None if not mpmath.isfinite(Y) or X == 0 or Y == 0 else mpmath.atan2(X, Y)
     if func == "exp2":
         return mpmath.power(2, X)
     if func == "exp":

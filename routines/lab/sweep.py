@@ -34,8 +34,8 @@ import numpy as np
 from tqdm import tqdm
 
 from . import measures as M
-from .reference import ARITY, FUNCS, reference
-from .tolerance import tolerance
+from .reference import ARITY, BINARY, FUNCS, reference
+from .tolerance import inside_pi, tolerance
 
 BLOCK = 2**15
 WORST = 10
@@ -120,6 +120,10 @@ class SweepResult:
     flushed: int = 0
     flush_examples: list = field(default_factory=list)
     worst: list = field(default_factory=list)
+    #: per input region of :data:`REGIONS` (the trigonometric and hyperbolic functions):
+    #: name -> {"count", "max_abs", "max_abs_at", "max_ulp32", "max_ulp32_at", "max_ulp16",
+    #: "max_ulp16_at", "max_margin", "max_margin_at"} over the scored inputs (Case objects)
+    regions: dict = field(default_factory=dict)
 
     @property
     def mismatches(self) -> int:
@@ -149,6 +153,12 @@ class SweepResult:
                                      key=Case.key)[:EXAMPLES]
         self.worst = sorted(self.worst + other.worst,
                             key=lambda c: -c.margin)[:WORST]
+        for name, theirs in other.regions.items():
+            ours = self.regions.setdefault(name, _region_stats())
+            ours["count"] += theirs["count"]
+            for key in _REGION_KEYS:
+                if theirs[key] > ours[key]:
+                    ours[key], ours[key + "_at"] = theirs[key], theirs[key + "_at"]
 
     def to_json(self) -> dict:
         """A dict ready for ``json.dump`` (non-finite floats as strings)."""
@@ -167,7 +177,9 @@ class SweepResult:
             "flushed_to_zero": self.flushed,
             "flush_examples": [c.to_json() for c in self.flush_examples],
             "worst": [c.to_json() for c in self.worst],
-        }
+        } | ({"regions": {name: {k: (case(v) if k.endswith("_at") else v if k == "count" else _num(v))
+                                 for k, v in r.items()}
+                          for name, r in self.regions.items()}} if self.regions else {})
 
     def table(self) -> str:
         """A short human-readable summary."""
@@ -184,11 +196,32 @@ class SweepResult:
         lines.append(f"  special mismatches: {self.mismatches} ({counts})")
         lines += [f"    {c.category:<13} {c.describe()}" for c in self.special_examples]
         lines.append(f"  flushed to zero (subnormal expected): {self.flushed}")
+        for name, r in self.regions.items():
+            lines.append(f"  region {name}: {r['count']} scored, max abs error {r['max_abs']:.6g}, "
+                         f"max ULP-32 {r['max_ulp32']:.6g}, max ULP-16 {r['max_ulp16']:.6g}, "
+                         f"max margin {r['max_margin']:.6g}")
+            for key in ("max_abs", "max_ulp32"):
+                if r[key + "_at"] is not None:
+                    lines.append(f"    {key:<9} at {r[key + '_at'].describe()}")
         if self.worst:
             lines.append(f"  worst inputs:  {'margin':>10} {'ULP-32':>10}")
             lines += [f"{'':16} {c.margin:>10.4g} {c.ulp32:>10.4g}  {c.describe()}"
                       for c in self.worst]
         return "\n".join(lines)
+
+
+#: Input regions reported apart (first operand): Vulkan bounds sin and cos only inside
+#: [-pi, pi], so the error outside (where a user still expects accuracy) is shown separately.
+_PI_SPLIT = (("|x| <= pi", lambda x: inside_pi(x)), ("|x| > pi", lambda x: ~inside_pi(x)))
+_ALL = (("all inputs", None),)
+REGIONS = {"sin": _PI_SPLIT, "cos": _PI_SPLIT, "tan": _PI_SPLIT,
+           "asin": _ALL, "acos": _ALL, "atan": _ALL, "atan2": _ALL,
+           "sinh": _ALL, "cosh": _ALL, "tanh": _ALL}
+_REGION_KEYS = ("max_abs", "max_ulp32", "max_ulp16", "max_margin")
+
+
+def _region_stats():
+    return {"count": 0} | {k: v for key in _REGION_KEYS for k, v in ((key, 0.0), (key + "_at", None))}
 
 
 def _first(examples):
@@ -228,6 +261,7 @@ class _Block:
     def __init__(self, ufunc, func, precision):
         self.ufunc, self.func = ufunc, func
         self.tol = tolerance(func, precision)
+        self.regions = REGIONS.get(func, ())
         self.bits = np.empty(BLOCK, np.uint32)
         self.iota = np.arange(BLOCK, dtype=np.uint32)
         self.got = np.empty(BLOCK, np.float32)
@@ -295,11 +329,14 @@ class _Block:
             inf_ok = np.flatnonzero(cat == M.INF_ALLOWED)
             allowed_inf = allowed[sel][inf_ok]
         m = np.divide(d, allowed, out=self.m[:n])
+        scored = None
         if special is not None:
-            self._specials(sel, cat, inf_ok, allowed_inf, xb, yb, got, ref, e32, e16, m,
-                           result)
+            scored = self._specials(sel, cat, inf_ok, allowed_inf, xb, yb, got, ref, d, e32, e16,
+                                    m, result)
         result.count += n
         self._reduce(xb, yb, got, ref, e32, e16, m, result, e16_scaled)
+        if self.regions:
+            self._regions(x, scored, xb, yb, got, ref, d, e32, e16, m, result)
 
     def _classify(self, x, y, got, ref, allowed):
         """:func:`measures.classify`, short-cut for results equal to the
@@ -325,13 +362,14 @@ class _Block:
             cat[rest] = M.classify(x_finite[rest], got[rest], ref[rest], allowed[rest])
         return cat
 
-    def _specials(self, sel, cat, inf_ok, allowed_inf, xb, yb, got, ref, e32, e16, m,
+    def _specials(self, sel, cat, inf_ok, allowed_inf, xb, yb, got, ref, dist, e32, e16, m,
                   result):
-        """Unscore special inputs, rescore permitted infinities, count the rest."""
+        """Unscore special inputs, rescore permitted infinities, count the rest.
+        Returns the mask of scored inputs when per-region statistics are kept."""
         whole = isinstance(sel, slice)
         pos = (lambda i: i) if whole else (lambda i: sel[i])
         unscored = (cat != M.SCORED) & (cat != M.INF_ALLOWED)
-        for arr in (e32, e16, m):
+        for arr in (e32, e16, m) + ((dist,) if self.regions else ()):
             if whole and unscored.all():
                 arr.fill(0.0)
             elif whole:
@@ -342,8 +380,13 @@ class _Block:
             i = pos(inf_ok)
             d = M.F32_MAX - np.abs(ref[i])
             e32[i], e16[i], m[i] = d / M.ulp32(ref[i]), d / M.ulp16(ref[i]), d / allowed_inf
+            dist[i] = d
+        scored = None
+        if self.regions:
+            scored = np.ones(dist.size, dtype=bool)
+            scored[pos(np.flatnonzero(unscored))] = False
         if not np.any(cat >= M.FLUSH):  # only scored/matched/permitted-inf inputs
-            return
+            return scored
         for code in M.MISMATCHES + (M.FLUSH,):
             hits = np.flatnonzero(cat == code)
             if not hits.size:
@@ -358,6 +401,23 @@ class _Block:
             else:
                 result.special_mismatches[name] += hits.size
                 result.special_examples = _first(result.special_examples + cases)
+        return scored
+
+    def _regions(self, x, scored, xb, yb, got, ref, d, e32, e16, m, result):
+        """Fold the block into the per-region maxima (unscored inputs hold 0 in d, e32, e16, m)."""
+        for name, predicate in self.regions:
+            stats = result.regions.setdefault(name, _region_stats())
+            inside = None if predicate is None else predicate(x)
+            if inside is not None and not inside.any():
+                continue
+            members = inside if scored is None else (scored if inside is None else inside & scored)
+            stats["count"] += x.size if members is None else int(np.count_nonzero(members))
+            for key, arr in (("max_abs", d), ("max_ulp32", e32), ("max_ulp16", e16), ("max_margin", m)):
+                masked = arr if inside is None else np.where(inside, arr, 0.0)
+                i = int(np.argmax(masked))
+                if masked[i] > stats[key]:
+                    stats[key] = float(masked[i])
+                    stats[key + "_at"] = self._case(i, xb, yb, got, ref, e32, e16, m, "scored")
 
     def _reduce(self, xb, yb, got, ref, e32, e16, m, result, e16_scaled):
         """Fold the block's scores into ``result`` (``e16_scaled``: e16 is e32
@@ -436,7 +496,44 @@ _HARD = {
     "rcp": ([2.0**126, 2.0**-126, 2.0**127, 2.0**-127, 2.0**-128, 1.0, 3.0], (2.0**-149, 3.0e38)),
     "rsqrt": ([1.0, 2.0, 4.0, 2.0**-126, 2.0**126], (2.0**-149, 3.0e38)),
     "sqrt": ([1.0, 2.0, 4.0, 2.0**-126, 2.0**126], (2.0**-149, 3.0e38)),
+    # sin/cos/tan: the Cody-Waite/Payne-Hanek switch at 2^17, pi, the hash range ~1e5
+    # (plus, below, the floats nearest to k pi/2 and each binade's hardest reduction)
+    "sin": ([np.pi, np.pi / 2, 2.0**17, 1e5, 43758.5453, 2.0**24, 1e10], (-1.2e5, 1.2e5)),
+    "cos": ([np.pi, np.pi / 2, 2.0**17, 1e5, 43758.5453, 2.0**24, 1e10], (-1.2e5, 1.2e5)),
+    "tan": ([np.pi, np.pi / 2, 2.0**17, 1e5, 2.0**24, 1e10], (-1.2e5, 1.2e5)),
+    "asin": ([0.5, 1.0, 2.0**-12], (-1.0, 1.0)),
+    "acos": ([0.5, 1.0, 2.0**-12], (-1.0, 1.0)),
+    "atan": ([1.0, 2.0**-12, 2.0**12, 2.0**24], (-1e6, 1e6)),
+    # sinh/cosh/tanh: the polynomial/exp switches (1, 0.55), ln FLT_MAX, the overflow of
+    # sinh/cosh (89.415986), tanh's rounding to 1 (9.0109)
+    "sinh": ([1.0, 88.7228391, 89.4159851, 2.0**-12], (-90.0, 90.0)),
+    "cosh": ([1.0, 88.7228391, 89.4159851, 2.0**-12], (-90.0, 90.0)),
+    "tanh": ([0.55, 9.01091, 44.361419, 2.0**-12], (-12.0, 12.0)),
 }
+
+#: Per binade 2^0 ... 2^127, the float32 closest to a multiple of pi/2 relative to pi/2 (the
+#: hardest argument reduction of that binade; overall 0x6F79BE45 = 7.729179e28, 2^-29.9 quadrants away).
+#: Found by frac(m * C_e) over all 2^23 significands m, C_e = frac(2^(e-23) * 2/pi) as a
+#: 64-bit fixed-point fraction (uint64 products wrap modulo 2^64).
+_REDUCTION_WORST = np.array([
+    0x3FC90FDB, 0x40490FDB, 0x4096CBE4, 0x4116CBE4, 0x4196CBE4, 0x4216CBE4, 0x4296CBE4, 0x437CE5F1,
+    0x43FCE5F1, 0x447CE5F1, 0x44FCE5F1, 0x450BE628, 0x458BE628, 0x460BE628, 0x468BE628, 0x474D246F,
+    0x47CD246F, 0x484D246F, 0x4882665E, 0x4902665E, 0x4982665E, 0x4A2562AE, 0x4AA562AE, 0x4B2562AE,
+    0x4BF3B47B, 0x4C2332E9, 0x4CA332E9, 0x4D2332E9, 0x4D847661, 0x4E13D4A5, 0x4E93D4A5, 0x4F0FFD14,
+    0x4FDBD32F, 0x507FD274, 0x50A3E87F, 0x5123E87F, 0x51A3E87F, 0x5223E87F, 0x52A3E87F, 0x5323E87F,
+    0x53B146A6, 0x543146A6, 0x54B146A6, 0x553146A6, 0x55B146A6, 0x56787577, 0x56F87577, 0x57787577,
+    0x57B82989, 0x58382989, 0x58DC36C9, 0x596E3D69, 0x59F740B9, 0x5A7BC261, 0x5AFE0335, 0x5B7F239F,
+    0x5BFFB3D4, 0x5C07BCD0, 0x5C87BCD0, 0x5D07BCD0, 0x5D87BCD0, 0x5E07BCD0, 0x5E87BCD0, 0x5F07BCD0,
+    0x5FE4112C, 0x6064112C, 0x60AB0CE1, 0x617C556B, 0x61D3B126, 0x6253B126, 0x62EC1B4A, 0x636C1B4A,
+    0x63E600C1, 0x642E0733, 0x64AE0733, 0x652E0733, 0x65898498, 0x66098498, 0x66898498, 0x67098498,
+    0x67898498, 0x68098498, 0x68898498, 0x6946E3BB, 0x69C6E3BB, 0x6A1976F1, 0x6A9976F1, 0x6B1976F1,
+    0x6B9976F1, 0x6C55DA58, 0x6CD5DA58, 0x6D2063C2, 0x6D85A877, 0x6E05A877, 0x6E85A877, 0x6F79BE45,
+    0x6FF9BE45, 0x7079BE45, 0x70F9BE45, 0x7179BE45, 0x71F9BE45, 0x723FA09A, 0x72BFA09A, 0x733FA09A,
+    0x73E61C18, 0x7452DE59, 0x74D2DE59, 0x756FA1DC, 0x75949471, 0x76507CE8, 0x76A426EB, 0x77584625,
+    0x77D84625, 0x78584625, 0x78A8B883, 0x79407F54, 0x79C07F54, 0x7A105F7F, 0x7AFCCBAB, 0x7B1675C0,
+    0x7B9675C0, 0x7C6C3305, 0x7CFF01BD, 0x7D7F01BD, 0x7DFF01BD, 0x7E7F01BD, 0x7EBDCDA0, 0x7F3DCDA0,
+], dtype=np.uint32)
+_TRIG = ("sin", "cos", "tan")
 
 
 def _hard_unary(func):
@@ -444,10 +541,16 @@ def _hard_unary(func):
     t = np.asarray(thresholds, dtype=np.float64)
     powers = np.ldexp(1.0, np.arange(-149, 128))
     ints = np.arange(-300.0, 301.0)
-    return np.concatenate([
+    parts = [
         _SPECIAL_BITS, _SPECIAL_BITS | np.uint32(0x80000000),
         _around(np.concatenate([powers, -powers]), 1), _around(ints, 1),
-        _around(np.concatenate([t, -t]), 64), _around([1.0], 4096)])
+        _around(np.concatenate([t, -t]), 64), _around([1.0], 4096)]
+    if func in _TRIG:  # k pi/2 for k up to 4096 and a few far ones; each binade's hardest case
+        k = np.concatenate([np.arange(1.0, 4097.0), [65535.0, 65536.0, 83443.0, 1e6, 1e9]])
+        near = k * (np.pi / 2)
+        worst = _REDUCTION_WORST.view(np.float32).astype(np.float64)
+        parts += [_around(np.concatenate([near, -near]), 1), _around(np.concatenate([worst, -worst]), 2)]
+    return np.concatenate(parts)
 
 
 def _hard_pow():
@@ -467,6 +570,34 @@ def _hard_pow():
     return np.concatenate([gx.ravel(), ex]), np.concatenate([gy.ravel(), ey])
 
 
+def _hard_atan2():
+    """Pairs (first operand, second operand) of atan2 where the C99 special cases and the
+    placement by quadrant change: every pair of zeros, infinities, NaN, +-1, tiny and huge
+    values, and pairs at and next to the diagonal |x| = |y|."""
+    v = np.array([0.0, np.inf, np.nan, 1.0, 2.0, 0.5, 3.0, 1e-30, 1e30, 2.0**-149, 2.0**-126,
+                  3.4028235e38, 7.0, 1e-10], np.float32)
+    v = np.concatenate([v, -v])
+    gx, gy = np.meshgrid(_bits(v), _bits(v))
+    diag = _around(np.array([1.0, 3.0, 1e-20, 1e20, 2.0**-140, 3e38]), 8)
+    dx = np.concatenate([diag, diag, diag ^ np.uint32(0x80000000)])
+    dy = np.concatenate([_bits(np.repeat(np.array([1.0, 3.0, 1e-20, 1e20, 2.0**-140, 3e38],
+                                                  np.float32), 17))] * 3)
+    return np.concatenate([gx.ravel(), dx, dy]), np.concatenate([gy.ravel(), dy, dx])
+
+
+def _atan2_pairs(rng, n):
+    """n pairs: half uniform over all bit patterns, half at random angles and magnitudes
+    (radius log-uniform over the float32 range, so y/x spans every ratio)."""
+    half = n // 2
+    raw = rng.integers(0, 2**32, (2, half), dtype=np.uint64).astype(np.uint32)
+    theta = rng.uniform(-np.pi, np.pi, n - half)
+    radius = np.exp2(rng.uniform(-140, 120, n - half))
+    with np.errstate(all="ignore"):
+        a = (radius * np.sin(theta)).astype(np.float32)
+        b = (radius * np.cos(theta)).astype(np.float32)
+    return np.concatenate([raw[0], _bits(a)]), np.concatenate([raw[1], _bits(b)])
+
+
 def _unique(bits):
     """Sorted distinct values (np.unique is ~30x slower on uint32 in NumPy 2.4)."""
     bits = np.sort(bits)
@@ -481,16 +612,23 @@ def sample_inputs(func, n, seed=0):
     Always contains the hard regions (all +-0/inf/NaN kinds, subnormals,
     min normal and FLT_MAX, every power of two and +-300 integers with their
     neighbours, the function's overflow/underflow thresholds and domain
-    boundaries +-64 ULP, 4096 ULP around 1), plus ``n`` random patterns:
-    half uniform over all 2**32, half uniform (in bits) over the function's
-    interesting range.  pow: the product of hard x and y values, the overflow
-    and underflow edges of pow(2, y), pow(10, y), pow(1+ulp, y), and ``n``
-    random pairs.  Returns a tuple with one uint32 array per operand.
+    boundaries +-64 ULP, 4096 ULP around 1; sin/cos/tan also the floats next
+    to k pi/2 for k <= 4096 and each binade's hardest argument reduction),
+    plus ``n`` random patterns: half uniform over all 2**32, half uniform (in
+    bits) over the function's interesting range.  pow: the product of hard x
+    and y values, the overflow and underflow edges of pow(2, y), pow(10, y),
+    pow(1+ulp, y), and ``n`` random pairs.  atan2: every pair of special and
+    diagonal operands and ``n`` random pairs (half at random angles).  Returns
+    a tuple with one uint32 array per operand.
     """
     if func not in FUNCS:
         raise ValueError(f"unknown function {func!r}; expected one of {FUNCS}")
     rng = np.random.default_rng(seed)
     half = n // 2
+    if func == "atan2":
+        hx, hy = _hard_atan2()
+        rx, ry = _atan2_pairs(rng, n)
+        return np.concatenate([hx, rx]), np.concatenate([hy, ry])
     if func == "pow":
         hx, hy = _hard_pow()
         rx = np.concatenate([rng.integers(0, 2**32, half, dtype=np.uint64).astype(np.uint32),
@@ -517,7 +655,7 @@ def _check(func, precision, y):
         raise ValueError(f"unknown function {func!r}; expected one of {FUNCS}")
     tolerance(func, precision)  # validates precision
     if (ARITY[func] == 2) != (y is not None):
-        raise ValueError(f"{func} takes {ARITY[func]} operand(s); pass y for pow only")
+        raise ValueError(f"{func} takes {ARITY[func]} operand(s); pass y for {' and '.join(BINARY)} only")
 
 
 def evaluate(ufunc, func, precision, x_bits, y_bits=None) -> SweepResult:
@@ -543,8 +681,8 @@ def sweep(ufunc, func, precision, *, start=0, stop=2**32, chunk=2**22, workers=2
     ``func``: one of :data:`routines.lab.reference.FUNCS`; ``precision``:
     'full' or 'relaxed'; ``chunk``: inputs per task (the progress step);
     ``workers``: forked processes (1: run in this process, no fork);
-    ``progress``: tqdm bar on stderr; ``y``: for pow, the fixed float32
-    second operand (x is swept).
+    ``progress``: tqdm bar on stderr; ``y``: for pow and atan2, the fixed
+    float32 second operand (x, the first, is swept).
     """
     _check(func, precision, y)
     if not 0 <= start < stop <= 2**32:

@@ -19,7 +19,23 @@ rcp        OpFDiv 1/x: 2.5 ULP for |x| = 0 or          2.5 ULP (spec: |x| in [2*
 rsqrt      inversesqrt: 2 ULP                          2 ULP
 sqrt       inherited from 1.0 / inversesqrt(x)         same, in binary16 spacing
 pow        inherited from exp2(y * log2(x))            same, in binary16 spacing
+sin, cos   absolute error <= 2**-11 inside [-pi, pi],  absolute error <= 2**-7 inside
+           no bound outside                            [-pi, pi]
+tan        inherited from sin() / cos()                same (relaxed sin, cos, OpFDiv)
+asin       inherited from atan2(x, sqrt(1.0 - x * x))  same, in binary16 spacing
+acos       inherited from atan2(sqrt(1.0 - x * x), x)  same, in binary16 spacing
+atan,      4096 ULP                                    5 ULP
+atan2
+sinh       inherited from (exp(x) - exp(-x)) * 0.5     same (1 + 2|x| ULP-16 exp)
+cosh       inherited from (exp(x) + exp(-x)) * 0.5     same
+tanh       inherited from sinh() / cosh()              same
 =========  ==========================================  ========================================
+
+(The rows from sin on are those of the same table in Vulkan-Docs 1.4.360,
+``appendices/spirvenv.adoc``, anchor ``precision-of-glsl-std-450-instructions``:
+"Absolute error <= 2^-11 inside the range [-pi, pi]" / "<= 2^-7" for sin()
+and cos(); the inherited rows span both columns; atan(), atan2(): "4096 ULP"
+single precision, "5 ULP." half precision.)
 
 Units.  ``ULP`` is the spec's ``ulp()`` of the exact result
 (:func:`~routines.lab.measures.spec_ulp32`, or ``spec_ulp16`` for relaxed:
@@ -70,6 +86,43 @@ sqrt(x) = 1 / inversesqrt(x), s = sqrt(x), q = 1/s.
     2**-24 below 2**-14, q = rsqrt(x) < 2**-14 (x > 2**28) loses relative
     accuracy and the bound grows, becoming unbounded for x >= 2**46.
 
+tan(x) = sin(x) / cos(x), inside [-pi, pi] only (sin and cos have no bound
+    outside), A = 2**-11 (relaxed 2**-7).  S in [s - A, s + A], C in
+    [c - A, c + A]; if |c| <= A the divisor range contains 0: unbounded.
+    Otherwise S/C is monotone in each operand on that rectangle, so its
+    extremes are corner quotients q_i, and OpFDiv adds 2.5 ULP of each:
+    F_max = max(q_i + 2.5 ulp(q_i)), F_min = min(q_i - 2.5 ulp(q_i)).  To
+    first order E = A (|c| + |s|) / c**2: about 2**-11 absolute near x = 0.
+
+asin(x) = atan2(x, sqrt(1 - x*x)), acos(x) = atan2(sqrt(1 - x*x), x).
+    Every operation correctly rounded with implementation-defined rounding
+    mode returns its exact value rounded down or up to the grid (``_to_grid``):
+    M = x*x in [rd(x^2), ru(x^2)] (<= 1 for |x| <= 1: 1 is representable),
+    D = 1 - M in [rd(1 - M_hi), ru(1 - M_lo)], Q = sqrt(D) within the
+    inherited sqrt bound above at each end of D, clipped at +0 (a square root
+    is never negative; otherwise acos(-1) would admit atan2(-0.., -1) = -pi).
+    atan2 is monotone in Q (asin: decreasing; acos: increasing for x > 0,
+    decreasing for x < 0), so F_max/F_min are atan2 at Q_lo and Q_hi plus or
+    minus atan2's own 4096 ULP (relaxed 5 ULP).  At x = 0 and +-1 nearly only
+    those remain (4096 ULP; acos(1) = 0: 4098.5, sqrt(0)'s 2.5 ULP of 0 added);
+    elsewhere the spread of Q adds a few ULP (full 4096-4110 ULP-32; relaxed
+    5-20 ULP-16).
+
+sinh(x) = (exp(x) - exp(-x)) * 0.5, cosh(x) = (exp(x) + exp(-x)) * 0.5.
+    exp(+-x) within n = 3 + 2|x| ULP (relaxed 1 + 2|x| ULP-16); if the range
+    of exp(|x|) passes FLT_MAX an infinity is allowed and E is unbounded
+    (|x| > 88.72).  The difference (sum) and the * 0.5 are rounded down or up
+    to the grid: sinh in [rd(rd(E1_lo - E2_hi)/2), ru(ru(E1_hi - E2_lo)/2)],
+    cosh in [rd(rd(E1_lo + E2_lo)/2), ru(ru(E1_hi + E2_hi)/2)].  cosh(0):
+    exp(+-0) = 1 +- 3 * 2**-24 (the spec's ulp of 1 is the spacing below),
+    the sum rounds up to 2 + 2**-21, halved 1 + 2**-22: 4 ULP.  sinh near 0:
+    about 2**-22 absolute; both ~3 + 2|x| ULP for large |x|.
+
+tanh = sinh() / cosh(): sinh and cosh each within their own inherited bound
+    (independently), the corner quotients and OpFDiv's 2.5 ULP as for tan;
+    unbounded where cosh passes 2**126 (OpFDiv's divisor range) or either
+    bound is unbounded.
+
 Assumptions and readings (documented in docs/accuracy.md):
 
 * Relaxed results are float32: they are scored in binary16 spacing with no
@@ -81,6 +134,11 @@ Assumptions and readings (documented in docs/accuracy.md):
   (outside the divisor range) we keep the 2.5 ULP of the exact 0.
 * The log bound "3 ULP outside [0.5, 2]" for relaxed is read from the same
   table row (confirmed, not assumed).
+* Inherited formulas are evaluated as written; the spec also admits their
+  rearrangements by associativity, commutativity and distributivity (taking
+  the widest range), which can only loosen the bound.
+* "Inside the range [-pi, pi]" is decided exactly: float32(pi) = 3.1415927 is
+  above pi, hence outside (no bound).
 """
 
 from __future__ import annotations
@@ -94,7 +152,7 @@ from typing import Callable
 
 import numpy as np
 
-from .measures import spec_ulp16, spec_ulp32
+from .measures import F32_MAX, spec_ulp16, spec_ulp32, ulp16, ulp32
 
 SPEC = ("Vulkan 1.4.360, Appendix 'Vulkan Environment for SPIR-V', "
         "'Precision and Operation of SPIR-V Instructions'")
@@ -103,6 +161,10 @@ _UNIT = {"full": spec_ulp32, "relaxed": spec_ulp16}
 _EXP_BASE = {"full": 3.0, "relaxed": 1.0}
 _LOG_ABS = {"full": 2.0**-21, "relaxed": 2.0**-7}
 _MUL_ROUNDING_ULP = 1.0  # implementation-defined rounding mode: < 1 ULP
+_TRIG_ABS = {"full": 2.0**-11, "relaxed": 2.0**-7}   # sin, cos inside [-pi, pi]
+_ATAN_ULP = {"full": 4096.0, "relaxed": 5.0}         # atan, atan2
+_DIV_ULP = 2.5                                       # OpFDiv, |divisor| in [2^-126, 2^126]
+_GRID = {"full": ulp32, "relaxed": ulp16}            # spacing of the format results round to
 
 
 def _buf(shape, out):
@@ -120,6 +182,20 @@ def _scratch(shape, count):
     if len(pool) < count or pool[0].size < size:
         pool = [np.empty(max(size, 1)) for _ in range(count)]
         _SCRATCH.pool = pool
+    return [a[:size].reshape(shape) for a in pool[:count]]
+
+
+_WORK = threading.local()
+
+
+def _work(shape, count):
+    """Like :func:`_scratch`, from a second pool: the inherited trigonometric and
+    hyperbolic bounds call the sqrt bound, which uses :func:`_scratch`."""
+    size = math.prod(shape)
+    pool = getattr(_WORK, "pool", [])
+    if len(pool) < count or pool[0].size < size:
+        pool = [np.empty(max(size, 1)) for _ in range(max(count, len(pool)))]
+        _WORK.pool = pool
     return [a[:size].reshape(shape) for a in pool[:count]]
 
 
@@ -228,6 +304,252 @@ def _pow(precision):
     return ulps
 
 
+# -- trigonometric and hyperbolic ------------------------------------------------
+
+def _to_grid(v, precision, up, out, tmp):
+    """``v`` rounded down (or up) to the precision's floating-point grid: what a
+    correctly rounded operation with implementation-defined rounding mode may
+    return (binade spacing; binary16 spacing has no overflow limit here)."""
+    g = _GRID[precision](v, out=tmp)
+    np.divide(v, g, out=out)
+    (np.ceil if up else np.floor)(out, out=out)
+    return np.multiply(out, g, out=out)
+
+
+#: The largest float32 in [-pi, pi] in magnitude (float32(pi) = 3.1415927 lies above pi).
+PI_DOWN32 = np.nextafter(np.float32(np.pi), np.float32(0))
+
+
+def inside_pi(x):
+    """|x| <= pi for float32 (or float64) operands, decided exactly."""
+    x = np.asarray(x)
+    limit = PI_DOWN32 if x.dtype == np.float32 else np.pi
+    return np.abs(x) <= limit
+
+
+def _sincos(precision):
+    unit, bound = _UNIT[precision], _TRIG_ABS[precision]
+
+    def ulps(x, ref, out=None):
+        out = unit(ref, out=out)
+        np.divide(bound, out, out=out)
+        np.copyto(out, np.inf, where=~inside_pi(x))             # no bound outside [-pi, pi]
+        return out
+    return ulps
+
+
+def _atan(precision):
+    n = _ATAN_ULP[precision]
+
+    def ulps(*args, out=None):
+        out = _buf(np.broadcast(*args).shape, out)
+        out[...] = n
+        return out
+    return ulps
+
+
+def _corner_quotients(s, es, c, ec, precision, fmax, fmin, q, u):
+    """F_max, F_min of S/C, S in [s - es, s + es], C in [c - ec, c + ec] (C not
+    crossing 0), with OpFDiv's 2.5 ULP at each corner quotient."""
+    unit = _UNIT[precision]
+    fmax.fill(-np.inf)
+    fmin.fill(np.inf)
+    for sa in (1.0, -1.0):
+        for ca in (1.0, -1.0):
+            np.multiply(es, sa, out=q)
+            np.add(s, q, out=q)
+            np.multiply(ec, ca, out=u)
+            np.add(c, u, out=u)
+            np.divide(q, u, out=q)
+            np.multiply(unit(q, out=u), _DIV_ULP, out=u)
+            np.add(q, u, out=u)
+            np.maximum(fmax, u, out=fmax)
+            np.multiply(unit(q, out=u), -_DIV_ULP, out=u)
+            np.add(q, u, out=u)
+            np.minimum(fmin, u, out=fmin)
+
+
+def _spread(r, fmax, fmin, unit, out):
+    """max(F_max - r, r - F_min) / unit(r); NaN -> inf (no bound)."""
+    np.subtract(fmax, r, out=fmax)
+    np.subtract(r, fmin, out=fmin)
+    np.maximum(fmax, fmin, out=out)
+    np.divide(out, unit(r, out=fmin), out=out)
+    np.copyto(out, np.inf, where=np.isnan(out))
+    return out
+
+
+def _tan(precision):
+    unit, bound = _UNIT[precision], _TRIG_ABS[precision]
+
+    def ulps(x, ref, out=None):
+        xd = np.asarray(x, dtype=np.float64)
+        t = np.asarray(ref, dtype=np.float64)
+        out = _buf(t.shape, out)
+        c, s, e, fmax, fmin, q, u = _work(t.shape, 7)
+        with np.errstate(all="ignore"):
+            # sin and cos from the reference tan: c = +-1/sqrt(1 + t^2), s = t c
+            np.multiply(t, t, out=c)
+            np.add(c, 1.0, out=c)
+            np.sqrt(c, out=c)
+            np.divide(1.0, c, out=c)
+            np.negative(c, out=c, where=np.abs(xd) > np.pi / 2)
+            np.multiply(t, c, out=s)
+            e.fill(bound)
+            _corner_quotients(s, e, c, e, precision, fmax, fmin, q, u)
+            _spread(t, fmax, fmin, unit, out)
+            np.abs(c, out=c)
+            unbounded = ~(inside_pi(xd) & (c - bound > 2.0**-126))
+            np.copyto(out, np.inf, where=unbounded)
+        return out
+    return ulps
+
+
+def _asin_acos(func, precision):
+    unit, n, sqrt_ulps = _UNIT[precision], _ATAN_ULP[precision], _sqrt(precision)
+
+    def ulps(x, ref, out=None):
+        xd = np.asarray(x, dtype=np.float64)
+        r = np.asarray(ref, dtype=np.float64)
+        out = _buf(r.shape, out)
+        if not np.any(np.abs(xd) <= 1.0):                        # NaN everywhere: no bound needed
+            out[...] = np.inf
+            return out
+        ax, d_lo, d_hi, q_lo, q_hi, t1, t2 = _work(r.shape, 7)
+        with np.errstate(all="ignore"):
+            np.abs(xd, out=ax)
+            np.multiply(ax, ax, out=t1)                          # x*x (exact in float64) ...
+            _to_grid(t1, precision, False, d_hi, t2)             # ... rounded down or up
+            _to_grid(t1, precision, True, d_lo, t2)
+            np.subtract(1.0, d_lo, out=t1)                       # 1 - x*x, rounded
+            _to_grid(t1, precision, False, d_lo, t2)
+            np.subtract(1.0, d_hi, out=t1)
+            _to_grid(t1, precision, True, d_hi, t2)
+            for d, q, sign in ((d_lo, q_lo, -1.0), (d_hi, q_hi, 1.0)):   # sqrt within its bound
+                np.sqrt(d, out=q)
+                sqrt_ulps(d, q, out=t1)
+                np.multiply(t1, unit(q, out=t2), out=t1)
+                np.multiply(t1, sign, out=t1)
+                np.add(q, t1, out=q)
+            np.maximum(q_lo, 0.0, out=q_lo)                      # a square root is >= +0
+            if func == "asin":                                   # atan2(|x|, Q): decreasing in Q
+                np.arctan2(ax, q_hi, out=t1)
+                np.arctan2(ax, q_lo, out=t2)
+                r = np.abs(r)
+            else:                                                # atan2(Q, x): monotone in Q
+                np.arctan2(q_lo, xd, out=d_lo)
+                np.arctan2(q_hi, xd, out=d_hi)
+                np.minimum(d_lo, d_hi, out=t1)
+                np.maximum(d_lo, d_hi, out=t2)
+            np.multiply(unit(t2, out=q_lo), n, out=q_lo)         # atan2's own n ULP at each end
+            np.add(t2, q_lo, out=t2)
+            np.multiply(unit(t1, out=q_hi), -n, out=q_hi)
+            np.add(t1, q_hi, out=t1)
+            _spread(r, t2, t1, unit, out)
+        return out
+    return ulps
+
+
+def _asin(precision):
+    return _asin_acos("asin", precision)
+
+
+def _acos(precision):
+    return _asin_acos("acos", precision)
+
+
+def _exp_ends(ax, precision, e1_lo, e1_hi, e2_lo, e2_hi, tmp):
+    """Ranges of exp(|x|) and exp(-|x|) (3 + 2|x| ULP; relaxed 1 + 2|x|); returns
+    the mask where exp(|x|) may be infinite (its range passes FLT_MAX)."""
+    unit, base = _UNIT[precision], _EXP_BASE[precision]
+    np.multiply(ax, 2.0, out=tmp)
+    np.add(tmp, base, out=tmp)                                   # n = base + 2|x|
+    np.exp(ax, out=e1_lo)
+    np.multiply(unit(e1_lo, out=e1_hi), tmp, out=e1_hi)
+    np.subtract(e1_lo, e1_hi, out=e2_lo)
+    np.add(e1_lo, e1_hi, out=e1_hi)
+    np.copyto(e1_lo, e2_lo)
+    np.negative(ax, out=e2_lo)
+    np.exp(e2_lo, out=e2_lo)
+    np.multiply(unit(e2_lo, out=e2_hi), tmp, out=e2_hi)
+    np.subtract(e2_lo, e2_hi, out=tmp)
+    np.add(e2_lo, e2_hi, out=e2_hi)
+    np.copyto(e2_lo, tmp)
+    return ~(e1_hi <= F32_MAX)
+
+
+def _hyperbolic_bound(kind, ax, precision, out, bufs):
+    """Absolute bound of (exp(x) -+ exp(-x)) * 0.5 (kind 'sinh'/'cosh') at |x| = ax,
+    as (value, allowed) with the value exact; inf where unbounded."""
+    e1_lo, e1_hi, e2_lo, e2_hi, f_lo, f_hi, tmp = bufs
+    overflow = _exp_ends(ax, precision, e1_lo, e1_hi, e2_lo, e2_hi, tmp)
+    if kind == "sinh":
+        np.subtract(e1_lo, e2_hi, out=tmp)
+        _to_grid(tmp, precision, False, f_lo, out)
+        np.subtract(e1_hi, e2_lo, out=tmp)
+        _to_grid(tmp, precision, True, f_hi, out)
+    else:
+        np.add(e1_lo, e2_lo, out=tmp)
+        _to_grid(tmp, precision, False, f_lo, out)
+        np.add(e1_hi, e2_hi, out=tmp)
+        _to_grid(tmp, precision, True, f_hi, out)
+    np.multiply(f_lo, 0.5, out=tmp)                              # * 0.5, correctly rounded
+    _to_grid(tmp, precision, False, f_lo, out)
+    np.multiply(f_hi, 0.5, out=tmp)
+    _to_grid(tmp, precision, True, f_hi, out)
+    (np.sinh if kind == "sinh" else np.cosh)(ax, out=tmp)         # the exact value
+    np.subtract(f_hi, tmp, out=f_hi)
+    np.subtract(tmp, f_lo, out=f_lo)
+    np.maximum(f_hi, f_lo, out=out)
+    np.copyto(out, np.inf, where=overflow | np.isnan(out))
+    return tmp, out
+
+
+def _sinh_cosh(kind, precision):
+    unit = _UNIT[precision]
+
+    def ulps(x, ref, out=None):
+        r = np.asarray(ref, dtype=np.float64)
+        out = _buf(r.shape, out)
+        ax, *bufs = _work(r.shape, 8)
+        with np.errstate(all="ignore"):
+            np.minimum(np.abs(np.asarray(x, dtype=np.float64), out=ax), 100.0, out=ax)
+            _hyperbolic_bound(kind, ax, precision, out, bufs)
+            np.divide(out, unit(r, out=ax), out=out)
+            np.copyto(out, np.inf, where=np.isnan(out))
+        return out
+    return ulps
+
+
+def _sinh(precision):
+    return _sinh_cosh("sinh", precision)
+
+
+def _cosh(precision):
+    return _sinh_cosh("cosh", precision)
+
+
+def _tanh(precision):
+    unit = _UNIT[precision]
+
+    def ulps(x, ref, out=None):
+        r = np.asarray(ref, dtype=np.float64)
+        out = _buf(r.shape, out)
+        ax, s, es, c, ec, fmax, fmin, q, u, *bufs = _work(r.shape, 16)
+        with np.errstate(all="ignore"):
+            np.minimum(np.abs(np.asarray(x, dtype=np.float64), out=ax), 100.0, out=ax)
+            value, bound = _hyperbolic_bound("sinh", ax, precision, es, bufs)
+            np.copyto(s, value)
+            value, bound = _hyperbolic_bound("cosh", ax, precision, ec, bufs)
+            np.copyto(c, value)
+            _corner_quotients(s, es, c, ec, precision, fmax, fmin, q, u)
+            _spread(np.abs(r), fmax, fmin, unit, out)
+            np.add(c, ec, out=c)                                 # OpFDiv's divisor range
+            np.copyto(out, np.inf, where=~(c <= 2.0**126) | np.isinf(es) | np.isinf(ec))
+        return out
+    return ulps
+
+
 @dataclass(frozen=True)
 class Tolerance:
     """One row of the table for one precision.
@@ -278,6 +600,37 @@ _ROWS = {
     "pow": (_pow, _GLSL + "pow(x, y): inherited from exp2(y * log2(x))",
             {"full": "inherited: ~3 + 2|t| + ln2*dt*r/ulp(r) ULP, t = y log2 x",
              "relaxed": "inherited: ~1 + 2|t| + ln2*dt*r/ulp(r) ULP-16"}),
+    "sin": (_sincos, _GLSL + "sin()",
+            {"full": "absolute error <= 2^-11 inside [-pi, pi], else unbounded",
+             "relaxed": "absolute error <= 2^-7 inside [-pi, pi], else unbounded"}),
+    "cos": (_sincos, _GLSL + "cos()",
+            {"full": "absolute error <= 2^-11 inside [-pi, pi], else unbounded",
+             "relaxed": "absolute error <= 2^-7 inside [-pi, pi], else unbounded"}),
+    "tan": (_tan, _GLSL + "tan(): inherited from sin() / cos()",
+            {"full": "inherited: (sin +- 2^-11) / (cos +- 2^-11) + 2.5 ULP; unbounded outside "
+                     "[-pi, pi] and where |cos x| <= 2^-11",
+             "relaxed": "inherited: (sin +- 2^-7) / (cos +- 2^-7) + 2.5 ULP-16; unbounded outside "
+                        "[-pi, pi] and where |cos x| <= 2^-7"}),
+    "asin": (_asin, _GLSL + "asin(x): inherited from atan2(x, sqrt(1.0 - x * x))",
+             {"full": "inherited: atan2's 4096 ULP plus the spread of sqrt(1 - x*x) (>= 4096 ULP)",
+              "relaxed": "inherited: atan2's 5 ULP-16 plus the spread of sqrt(1 - x*x)"}),
+    "acos": (_acos, _GLSL + "acos(x): inherited from atan2(sqrt(1.0 - x * x), x)",
+             {"full": "inherited: atan2's 4096 ULP plus the spread of sqrt(1 - x*x) (>= 4096 ULP)",
+              "relaxed": "inherited: atan2's 5 ULP-16 plus the spread of sqrt(1 - x*x)"}),
+    "atan": (_atan, _GLSL + "atan(), atan2()", {"full": "4096 ULP", "relaxed": "5 ULP"}),
+    "atan2": (_atan, _GLSL + "atan(), atan2()", {"full": "4096 ULP", "relaxed": "5 ULP"}),
+    "sinh": (_sinh, _GLSL + "sinh(x): inherited from (exp(x) - exp(-x)) * 0.5",
+             {"full": "inherited: ~3 + 2|x| ULP for |x| >= 1; ~2^-22 absolute near 0; unbounded "
+                      "where exp(|x|) may overflow (|x| > 88.72)",
+              "relaxed": "inherited: ~1 + 2|x| ULP-16 for |x| >= 1; ~2^-10 absolute near 0"}),
+    "cosh": (_cosh, _GLSL + "cosh(x): inherited from (exp(x) + exp(-x)) * 0.5",
+             {"full": "inherited: 3.2-4 ULP near 0, ~3 + 2|x| ULP for large |x|; unbounded "
+                      "where exp(|x|) may overflow",
+              "relaxed": "inherited: 1-2 ULP-16 near 0, ~1 + 2|x| ULP-16 for large |x|"}),
+    "tanh": (_tanh, _GLSL + "tanh(): inherited from sinh() / cosh()",
+             {"full": "inherited: (sinh +- E_sinh) / (cosh +- E_cosh) + 2.5 ULP (~2^-22 absolute "
+                      "near 0, ~2(3 + 2|x|) ULP for large |x|)",
+              "relaxed": "inherited: the same in binary16 spacing"}),
 }
 
 
