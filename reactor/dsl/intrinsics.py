@@ -17,12 +17,12 @@ import typing
 from typing import Callable, Iterator
 
 from ..build import Build, Precision, current_options, options
-from ..errors import DSLTypeError, FmaDisabledError, WidthMismatchError
+from ..errors import DSLTypeError, FmaDisabledError
 from ..ir import emitter as _em
 from ..ir import ops, x86
 from ..ir import types as T
 from ..ir.types import KINDS, VType
-from .values import Operand, Value, binary, common_type, to_ir, unary, value_class, vector_type
+from .values import Operand, Value, binary, common_type, to_ir, unary, value_class, vector_type, width_mismatch
 
 if typing.TYPE_CHECKING:
     from .vectors import Vec
@@ -102,7 +102,7 @@ def Select(mask: typing.Any, a: typing.Any, b: typing.Any) -> typing.Any:
     if vt.width == 1 and mask.width > 1:
         vt = vt.with_width(mask.width)
     elif mask.width not in (1, vt.width):
-        raise WidthMismatchError(f"Select: mask {mask.vtype.name} does not match values {vt.name}")
+        raise width_mismatch(f"Select: mask {mask.vtype.name} does not match values {vt.name}")
     em = _em.current()
     return value_class(vt)._wrap(ops.select(em, mask.ir, to_ir(a, vt), to_ir(b, vt)), em)
 

@@ -216,7 +216,18 @@ def to_ir(x, vt: VType, *, convert: bool = False):
     if xt.width == 1:
         named = getattr(val, "name", "") and not T.is_constant(val)
         return _em.current().splat(val, vt.width, name=f"{val.name}.splat" if named else "splat")
-    raise WidthMismatchError(f"a {xt.name} cannot become a {vt.name}: widths {xt.width} and {vt.width}")
+    raise width_mismatch(f"a {xt.name} cannot become a {vt.name}: widths {xt.width} and {vt.width}")
+
+
+def width_mismatch(message: str) -> WidthMismatchError:
+    """The error for values of different widths; in a kernel's body, with how to write it there."""
+    if _em.building():
+        em = _em.current()
+        if getattr(em.dsl_function, "is_kernel", False):
+            message += (f"; a kernel's body is traced at width {em.settings.width} and at width 1 (the tail): "
+                        f"write the scalar types (Float, Int, Bool ...), which take the body's width, not "
+                        f"Float4 or Float16")
+    return WidthMismatchError(message)
 
 
 def common_type(*args, what: str) -> VType:
@@ -232,7 +243,7 @@ def common_type(*args, what: str) -> VType:
     widths = {vt.width for vt in vts} - {1}
     if len(widths) > 1:
         names = " and ".join(vt.name for vt in vts)
-        raise WidthMismatchError(f"{what}: vector widths differ ({names})")
+        raise width_mismatch(f"{what}: vector widths differ ({names})")
     return VType(vts[0].kind, widths.pop() if widths else 1)
 
 

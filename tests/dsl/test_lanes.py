@@ -260,3 +260,25 @@ def test_cheap_blocks_run_unguarded_and_expensive_ones_are_skipped_when_no_lane_
     assert guards(cheap) == 0 and guards(costly) == 1
     x = _data(50)
     np.testing.assert_array_equal(cheap(x), np.where(x > 0.5, x * 2 + 1, x))
+
+
+@pytest.mark.parametrize("body", [
+    lambda x: Variable(reactor.Float4, 0.0).set(x),
+    lambda x: reactor.Float16(x) + x,
+    lambda x: reactor.Select(x > 0.0, reactor.Float4(1.0), x),
+])
+def test_a_fixed_width_in_a_kernel_names_the_fix_and_the_fix_works(body):
+    def bad(x: Float) -> Float:
+        return body(x)
+
+    with pytest.raises(reactor.WidthMismatchError) as e:
+        kernel(bad)
+    assert "write the scalar types (Float, Int, Bool ...)" in str(e.value) and "test_lanes.py" in str(e.value)
+
+    @kernel
+    def fixed(x: Float) -> Float:  # the fix: scalar types, one value per lane
+        v = Variable(Float, 0.0)
+        v.set(x)
+        return reactor.Select(x > 0.0, Float(1.0), Float(x) + v * 0.0)
+
+    np.testing.assert_array_equal(fixed(np.array([-2, 3], np.float32)), [-2, 1])
