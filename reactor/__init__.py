@@ -41,6 +41,9 @@ if _typing.TYPE_CHECKING:  # the names the loop below makes; a type checker sees
     Int: _typing.TypeAlias = Value; Int4: _typing.TypeAlias = Value; Int8: _typing.TypeAlias = Value; Int16: _typing.TypeAlias = Value  # noqa: E702
     UInt: _typing.TypeAlias = Value; UInt4: _typing.TypeAlias = Value; UInt8: _typing.TypeAlias = Value; UInt16: _typing.TypeAlias = Value  # noqa: E702
     Bool: _typing.TypeAlias = Value; Bool4: _typing.TypeAlias = Value; Bool8: _typing.TypeAlias = Value; Bool16: _typing.TypeAlias = Value  # noqa: E702
+    UByte: _typing.TypeAlias = Value; UByte4: _typing.TypeAlias = Value; UByte8: _typing.TypeAlias = Value; UByte16: _typing.TypeAlias = Value  # noqa: E702
+    UShort: _typing.TypeAlias = Value; UShort4: _typing.TypeAlias = Value; UShort8: _typing.TypeAlias = Value; UShort16: _typing.TypeAlias = Value  # noqa: E702
+    Half: _typing.TypeAlias = Value; Half4: _typing.TypeAlias = Value; Half8: _typing.TypeAlias = Value; Half16: _typing.TypeAlias = Value  # noqa: E702
 for _kind in KINDS:
     for _w in WIDTHS:
         _cls = vector_type(_kind, _w)
@@ -57,7 +60,8 @@ __all__ = [
     "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable", "set_power",
     "Vec", "Mat", "vec_type", "mat_type", "vec2", "vec3", "vec4", "dvec2", "dvec3", "dvec4", "ivec2", "ivec3",
     "ivec4", "uvec2", "uvec3", "uvec4", "bvec2", "bvec3", "bvec4", "mat2", "mat3", "mat4",
-    *(f"{kind}{'' if w == 1 else w}" for kind in ("Float", "Double", "Int", "UInt", "Bool") for w in WIDTHS),
+    *(f"{kind}{'' if w == 1 else w}" for kind in ("Float", "Double", "Int", "UInt", "Bool", "UByte", "UShort",
+                                                  "Half") for w in WIDTHS),
     # control flow
     "If", "Elif", "Else", "While", "For", "Return", "Break", "Continue",
     # intrinsics

@@ -187,12 +187,12 @@ def _python_constant(x, vt: VType):
     if kind.is_float:
         if not isinstance(x, numbers.Real):
             raise DSLTypeError(f"{type(x).__name__} {x!r} cannot be a {vt.name} constant")
-        return T.const(vt, float(x))
+        return T.const(vt, float(kind.dtype.type(x)) if kind.bits < 32 else float(x))  # Half: rounded once
     if isinstance(x, numbers.Integral):
-        x = int(x)
-        if not -(2**31) <= x < 2**32:
-            raise DSLTypeError(f"integer constant {x} does not fit in 32 bits ({vt.name})")
-        return T.const(vt, x - 2**32 if x >= 2**31 else x)
+        x, bits = int(x), kind.bits
+        if not -(2 ** (bits - 1)) <= x < 2 ** bits:
+            raise DSLTypeError(f"integer constant {x} does not fit in {bits} bits ({vt.name})")
+        return T.const(vt, x - 2 ** bits if x >= 2 ** (bits - 1) else x)
     raise DSLTypeError(f"{type(x).__name__} {x!r} used where an integer {vt.name} is expected")
 
 

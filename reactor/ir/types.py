@@ -1,6 +1,7 @@
 """Element kinds, value types and pointer types, and their LLVM types and constants.
 
-A *kind* is an element type (Float, Double, Int, UInt, Bool); a *value type*
+A *kind* is an element type (Float, Double, Int, UInt, Bool, and the pixel
+formats UByte, UShort, Half); a *value type*
 is a kind at a SIMD width (1 = scalar, or 4, 8, 16 lanes). Everything below is
 a table: adding a kind or a width adds it for every operation at once.
 
@@ -62,6 +63,10 @@ KINDS = {
         Kind("Int", "int", 32, ir.IntType(32), ir.IntType(32), np.dtype(np.int32)),
         Kind("UInt", "uint", 32, ir.IntType(32), ir.IntType(32), np.dtype(np.uint32)),
         Kind("Bool", "bool", 1, ir.IntType(1), ir.IntType(8), np.dtype(np.bool_)),
+        # pixel and table formats: 8- and 16-bit unsigned integers, IEEE binary16
+        Kind("UByte", "uint", 8, ir.IntType(8), ir.IntType(8), np.dtype(np.uint8)),
+        Kind("UShort", "uint", 16, ir.IntType(16), ir.IntType(16), np.dtype(np.uint16)),
+        Kind("Half", "float", 16, ir.HalfType(), ir.HalfType(), np.dtype(np.float16)),
     )
 }
 INDEX_KIND = Kind("Index", "int", 64, ir.IntType(64), ir.IntType(64), np.dtype(np.int64))
@@ -73,6 +78,8 @@ def mangle(t: ir.Type) -> str:
     """LLVM's overload suffix for an IR type: f32, i8, v16f32, v8i1."""
     if isinstance(t, ir.VectorType):
         return f"v{t.count}{mangle(t.element)}"
+    if isinstance(t, ir.HalfType):
+        return "f16"
     if isinstance(t, ir.FloatType):
         return "f32"
     if isinstance(t, ir.DoubleType):

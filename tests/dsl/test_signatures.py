@@ -42,7 +42,7 @@ def test_several_results_and_reactor_kind_names():
 
 
 @pytest.mark.parametrize("bad, words", [
-    (["float16(float16)"], "unknown type 'float16'"),
+    (["complex64(complex64)"], "unknown type 'complex64'"),
     (["float32(float32, float32)"], "has 2 input(s), but the body takes 1"),
     (["float32 of float32"], "not of the form"),
     (["float32(float32)", "float32(float32)"], "different input types"),
