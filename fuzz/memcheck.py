@@ -120,6 +120,8 @@ class Report:
 
 def memcheck(cycles: int, distinct: bool = False, warmup: int | None = None, progress=None) -> Report:
     warmup = min(cycles // 5, 600) if warmup is None else warmup
+    from reactor.kernels import parallel
+    parallel.runtime()  # the process's shared kernel runtime, built once and kept: not a cycle's
     gc.collect()
     maps0, rss0, state0 = exec_mappings(), rss_mb(), _reactor_state()
     t0 = time.perf_counter()

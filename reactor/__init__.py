@@ -19,10 +19,12 @@ from .dsl.intrinsics import (
 )
 from .dsl.calls import RoutineCall, routine_call
 from .dsl.signature import SIMD, Pointer
+from .dsl.textures import Table, Texture2D, Texture3D
 from .dsl.values import Value, set_power, vector_type
 from .dsl.vectors import Mat, Vec, mat_type, vec_type
-from .dsl.vectors import (bvec2, bvec3, bvec4, dvec2, dvec3, dvec4, ivec2, ivec3, ivec4, mat2, mat3,  # noqa: F401
-                          mat4, uvec2, uvec3, uvec4, vec2, vec3, vec4)
+from .dsl.vectors import (bvec2, bvec3, bvec4, dvec2, dvec3, dvec4, f16vec2, f16vec3, f16vec4,  # noqa: F401
+                          ivec2, ivec3, ivec4, mat2, mat3, mat4, u8vec2, u8vec3, u8vec4, u16vec2, u16vec3,
+                          u16vec4, uvec2, uvec3, uvec4, vec2, vec3, vec4)
 from .dsl.variables import Variable, is_variable
 from .errors import (
     ArgumentError, ArityError, CompileError, ControlFlowError, DSLTypeError, FmaDisabledError, LoopLimitError,
@@ -58,8 +60,10 @@ __all__ = [
     "Target", "TARGETS", "get_target", "WIDTHS", "KINDS",
     # values, types, variables, pointers
     "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable", "set_power",
+    "Table", "Texture2D", "Texture3D",
     "Vec", "Mat", "vec_type", "mat_type", "vec2", "vec3", "vec4", "dvec2", "dvec3", "dvec4", "ivec2", "ivec3",
     "ivec4", "uvec2", "uvec3", "uvec4", "bvec2", "bvec3", "bvec4", "mat2", "mat3", "mat4",
+    "u8vec2", "u8vec3", "u8vec4", "u16vec2", "u16vec3", "u16vec4", "f16vec2", "f16vec3", "f16vec4",
     *(f"{kind}{'' if w == 1 else w}" for kind in ("Float", "Double", "Int", "UInt", "Bool", "UByte", "UShort",
                                                   "Half") for w in WIDTHS),
     # control flow

@@ -525,6 +525,7 @@ def record_lane_results(em, fn, value, active) -> None:
     kernel = getattr(fn, "is_kernel", False)
     outs = list(fn.outputs) if kernel else ([] if fn.returns is None else [fn.returns])
     values = list(value) if isinstance(value, tuple) else ([] if value is None else [value])
+    values = _split(fn, values)
     if len(values) != len(outs):
         raise DSLTypeError(f"Return of {len(values)} value(s) in '{fn.name}', which gives {len(outs)}")
     if lanes.returned is None:
@@ -545,11 +546,23 @@ def _return_from_kernel(em, fn, value) -> None:
     earlier keep their results)."""
     values = value if isinstance(value, tuple) else ((value,) if value is not None else ())
     outs = list(fn.outputs)
-    if len(values) != len(outs):
+    flat = _split(fn, list(values))
+    if len(flat) != len(outs):
         raise DSLTypeError(f"Return of {len(values)} value(s) in '{fn.name}', which gives {len(outs)}")
-    results = final_results(em, fn, tuple(value_class(t)._wrap(to_ir(v, t), em) for v, t in zip(values, outs)))
-    irs = [r.ir for r in results]
+    results = final_results(em, fn, _join(fn, [value_class(t)._wrap(to_ir(v, t), em) for v, t in zip(flat, outs)]))
+    irs = [r.ir for r in _split(fn, list(results))]
     em.ret(irs[0] if len(irs) == 1 else em.pack(T.StructType(tuple(outs)), irs))
+
+
+def _split(fn, values: list) -> list:
+    """A kernel's results as its flat component values (a vector result: its components)."""
+    split = getattr(fn, "split", None)
+    return split(values) if split is not None else values
+
+
+def _join(fn, flat: list) -> tuple:
+    join = getattr(fn, "join", None)
+    return join(flat) if join is not None else tuple(flat)
 
 
 def final_results(em, fn, values):
@@ -558,8 +571,9 @@ def final_results(em, fn, values):
     if lanes is None or lanes.returned is None:
         return values
     if values is None:
-        return tuple(var.value for var in lanes.results)
-    return tuple(Select(lanes.returned.value, var.value, v) for var, v in zip(lanes.results, values))
+        return _join(fn, [var.value for var in lanes.results])
+    flat = _split(fn, list(values))
+    return _join(fn, [Select(lanes.returned.value, var.value, v) for var, v in zip(lanes.results, flat)])
 
 
 def _report_runaway(em, loop) -> None:

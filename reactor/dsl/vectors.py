@@ -11,7 +11,8 @@ component, as SwiftShader's SPIR-V backend holds them), so a kernel's
     m = mat3(c0, c1, c2)                 # column-major; m @ v, v @ m, m @ m
 
 Kinds and sizes are a table (``VECTORS``): ``vec2..4`` (Float), ``dvec``
-(Double), ``ivec`` (Int), ``uvec`` (UInt), ``bvec`` (Bool); ``mat2..4``
+(Double), ``ivec`` (Int), ``uvec`` (UInt), ``bvec`` (Bool), ``u8vec``,
+``u16vec``, ``f16vec`` (UByte, UShort, Half: pixels and texels); ``mat2..4``
 (Float, square). Operators act per component, with Python numbers, DSL
 scalars and vectors of the same size on either side; ``%`` is GLSL's
 ``mod`` and ``**`` is ``pow``. Comparisons give a ``bvec`` per component
@@ -219,7 +220,9 @@ def _install_vector_operators() -> None:
 _install_vector_operators()
 
 #: The vector and matrix type names: (kind name, name prefix).
-VECTORS = (("Float", "vec"), ("Double", "dvec"), ("Int", "ivec"), ("UInt", "uvec"), ("Bool", "bvec"))
+VECTORS = (("Float", "vec"), ("Double", "dvec"), ("Int", "ivec"), ("UInt", "uvec"), ("Bool", "bvec"),
+           # GL_EXT_shader_explicit_arithmetic_types' names: pixels and texels
+           ("UByte", "u8vec"), ("UShort", "u16vec"), ("Half", "f16vec"))
 SIZES = (2, 3, 4)
 _VEC_TYPES: dict[tuple[str, int], type[Vec]] = {}
 
@@ -360,6 +363,7 @@ def mat_type(size: int) -> type[Mat]:
 if typing.TYPE_CHECKING:
     vec2 = vec3 = vec4 = dvec2 = dvec3 = dvec4 = ivec2 = ivec3 = ivec4 = Vec
     uvec2 = uvec3 = uvec4 = bvec2 = bvec3 = bvec4 = Vec
+    u8vec2 = u8vec3 = u8vec4 = u16vec2 = u16vec3 = u16vec4 = f16vec2 = f16vec3 = f16vec4 = Vec
     mat2 = mat3 = mat4 = Mat
 else:
     globals().update({cls.__name__: cls for cls in _VEC_TYPES.values()})

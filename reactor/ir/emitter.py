@@ -330,6 +330,67 @@ class FunctionEmitter:
         idx = ir.Constant(ir.IntType(64), index) if isinstance(index, int) else index
         return self._b.gep(ptr, [idx], inbounds=True, name=name)
 
+    def gather(self, vt: "T.VType", base, offsets, mask=None, name: str = "gather"):
+        """Lanes of ``vt`` (in its memory form) read from ``base + offsets[lane]`` bytes: ``base``
+        a pointer, ``offsets`` an i64 value of ``vt``'s width. Lanes off in ``mask`` read nothing
+        and give 0. One ``llvm.masked.gather`` (a gather instruction where the target has a
+        fast one), a plain load at width 1."""
+        mem = T.memory(vt)
+        elem = _llvm(mem.with_width(1))
+        if vt.width == 1:
+            ptr = self._b.bitcast(self._b.gep(self._b.bitcast(base, ir.IntType(8).as_pointer()), [offsets]),
+                                  elem.as_pointer())
+            if mask is None:
+                return self._b.load(ptr, name=name, align=vt.kind.mem_bytes)
+            read, done, here = self.new_block(f"{name}.read"), self.new_block(f"{name}.done"), self._b.block
+            self._b.cbranch(mask, read, done)
+            self._b.position_at_end(read)
+            got = self._b.load(ptr, name=name, align=vt.kind.mem_bytes)
+            self._b.branch(done)
+            self._b.position_at_end(done)
+            phi = self._b.phi(elem, name=name)
+            phi.add_incoming(ir.Constant(elem, 0), here)
+            phi.add_incoming(got, read)
+            return phi
+        ptrs = self._lane_pointers(base, offsets, elem, vt.width, name)
+        mask = mask if mask is not None else ir.Constant(ir.VectorType(ir.IntType(1), vt.width), [1] * vt.width)
+        vec = _llvm(mem)
+        fn = self.intrinsic(f"llvm.masked.gather.{T.mangle(vec)}.v{vt.width}p0", vec,
+                            [ptrs.type, ir.IntType(32), mask.type, vec])
+        return self._b.call(fn, [ptrs, ir.Constant(ir.IntType(32), vt.kind.mem_bytes), mask,
+                                 ir.Constant(vec, None)], name=name)
+
+    def scatter(self, vt: "T.VType", value, base, offsets, mask=None) -> None:
+        """Store the lanes of ``value`` (memory form of ``vt``) at ``base + offsets[lane]`` bytes,
+        the lanes on in ``mask`` only (lanes writing one address: the highest lane wins)."""
+        mem = T.memory(vt)
+        elem = _llvm(mem.with_width(1))
+        if vt.width == 1:
+            ptr = self._b.bitcast(self._b.gep(self._b.bitcast(base, ir.IntType(8).as_pointer()), [offsets]),
+                                  elem.as_pointer())
+            if mask is None:
+                self._b.store(value, ptr, align=vt.kind.mem_bytes)
+                return
+            write, done = self.new_block("scatter.write"), self.new_block("scatter.done")
+            self._b.cbranch(mask, write, done)
+            self._b.position_at_end(write)
+            self._b.store(value, ptr, align=vt.kind.mem_bytes)
+            self._b.branch(done)
+            self._b.position_at_end(done)
+            return
+        ptrs = self._lane_pointers(base, offsets, elem, vt.width, "scatter")
+        mask = mask if mask is not None else ir.Constant(ir.VectorType(ir.IntType(1), vt.width), [1] * vt.width)
+        fn = self.intrinsic(f"llvm.masked.scatter.{T.mangle(value.type)}.v{vt.width}p0", ir.VoidType(),
+                            [value.type, ptrs.type, ir.IntType(32), mask.type])
+        self._b.call(fn, [value, ptrs, ir.Constant(ir.IntType(32), vt.kind.mem_bytes), mask])
+
+    def _lane_pointers(self, base, offsets, elem, width: int, name: str):
+        """A vector of ``width`` pointers ``base + offsets[lane]`` (llvmlite's GEP takes no vectors)."""
+        i64 = ir.IntType(64)
+        start = self.splat(self._b.ptrtoint(base, i64, name=f"{name}.base"), width, name=f"{name}.base")
+        return self._b.inttoptr(self._b.add(start, offsets, name=f"{name}.addr"),
+                                ir.VectorType(elem.as_pointer(), width), name=f"{name}.ptrs")
+
     def field(self, ptr, index: int, name: str = "field"):
         """``&ptr->field[index]`` of a pointer to a struct."""
         return self._b.gep(ptr, [ir.Constant(ir.IntType(32), 0), ir.Constant(ir.IntType(32), index)], name=name)

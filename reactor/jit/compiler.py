@@ -27,7 +27,7 @@ from . import cache
 
 _lock = threading.RLock()
 _library_ids = itertools.count()
-CACHE_VERSION = "5"  # bump when the pipeline or the cache file format changes
+CACHE_VERSION = "6"  # bump when the pipeline or the cache file format changes
 
 
 @functools.cache

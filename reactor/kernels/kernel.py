@@ -54,6 +54,7 @@ from ..dsl.limits import messages_of
 from .recipe import recipe_key
 from . import parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
+from .operands import core_layout, gufunc_signature, operand_of
 from .ufunc_api import make_ufunc
 
 _registry: "dict[int, weakref.ref[Kernels]]" = {}
@@ -70,19 +71,22 @@ class Kernel(ShowsCode):
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
         self.name, self.build = name, build
-        ins, outs = _kinds(signature, name)
-        self.in_kinds, self.out_kinds = ins, outs
+        ins, outs = _operands(signature, name)
+        self.ins, self.outs = ins, outs
+        self.in_kinds, self.out_kinds = [o.kind for o in ins], [o.kind for o in outs]
+        self.gufunc_signature = gufunc_signature(ins, outs)
         loop_name, entry_name = f"{name}.loop", f"{name}.ufunc"
         exports = (loop_name, entry_name)
         self.code = self._from_recipe(body, signature, exports) or self._traced(body, exports, signature)
         self._loop = self.code.address(entry_name)
-        self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element, self.messages)
+        self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element, self.messages,
+                                           core_layout(ins, outs)[2])
         self._signature = [[k.dtype for k in ins + outs]]
         self.types = "".join(k.dtype.char for k in ins) + "->" + "".join(k.dtype.char for k in outs)
 
     def _module(self, body) -> tuple[_em.ModuleEmitter, float]:
         """Trace ``body`` into its module: the bodies, the loop and the dispatcher."""
-        build, name, ins, outs = self.build, self.name, self.in_kinds, self.out_kinds
+        build, name, ins, outs = self.build, self.name, self.ins, self.outs
         collecting = gc.isenabled()
         gc.disable()  # tracing makes many objects and frees none: collections there cost, find nothing
         try:
@@ -141,18 +145,20 @@ class Kernel(ShowsCode):
         return f"<reactor.Kernel {self.name} {self.build.describe()}>"
 
 
-def _kinds(signature: Signature, name: str):
-    params, returns = signature.resolved(1, f"kernel '{name}'")
-    if returns is None:
+def _operands(signature: Signature, name: str):
+    """The kernel's input and output Operands (elements, vectors, uniform tables and textures)."""
+    if signature.returns is None:
         raise DSLTypeError(f"kernel '{name}' needs a return annotation (-> Float or -> (Float, Float))")
-    outs = returns if isinstance(returns, tuple) else (returns,)
-    for what, t in [("parameter", p) for p in params] + [("result", r) for r in outs]:
-        if isinstance(t, PointerType) or not isinstance(t, VType) or t.width != 1:
-            raise DSLTypeError(f"kernel '{name}': every {what} must be a scalar element type "
-                               f"(Float, Int, ...), not {t!r}; the body is vectorized for you")
-    if not params:
-        raise DSLTypeError(f"kernel '{name}' needs at least one input")
-    return [p.kind for p in params], [r.kind for r in outs]
+    returns = signature.returns if isinstance(signature.returns, tuple) else (signature.returns,)
+    ins = [operand_of(f"'{name}' parameter '{n}'", p) for n, p in zip(signature.names, signature.params)]
+    outs = [operand_of(f"'{name}' result", r) for r in returns]
+    if any(o.uniform for o in outs):
+        raise DSLTypeError(f"kernel '{name}': a result is one value or vector per element, not a Table or "
+                           f"Texture")
+    if not any(not o.uniform for o in ins):
+        raise DSLTypeError(f"kernel '{name}' needs at least one input that is not a Table or Texture "
+                           f"(the elements it runs over)")
+    return ins, outs
 
 
 def build_kernel(body, *, name: str | None = None, args=None, returns=..., signatures=None, **options):
@@ -172,7 +178,7 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
     if cached is not None and cached.ufunc_ref() is not None:
         return cached.ufunc_ref()
     kernels = [Kernel(body, name, sig, build) for sig, build in zip(sigs, builds)]
-    shapes = {(len(k.in_kinds), len(k.out_kinds)) for k in kernels}
+    shapes = {(len(k.in_kinds), len(k.out_kinds), k.gufunc_signature) for k in kernels}
     inputs = [tuple(k.in_kinds) for k in kernels]
     if len(shapes) > 1 or len(set(inputs)) < len(inputs):
         raise DSLTypeError(f"kernel '{name}': its signatures need the same numbers of inputs and outputs "
@@ -183,7 +189,7 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
     ref = group.ufunc_ref
     ufunc = make_ufunc(name, doc, [k._loop for k in kernels], [k._signature[0] for k in kernels],
                        len(kernels[0].in_kinds), len(kernels[0].out_kinds), owner=(group, _UfuncFreed(ref)),
-                       data=[ctypes.addressof(k.config) for k in kernels])
+                       data=[ctypes.addressof(k.config) for k in kernels], signature=kernels[0].gufunc_signature)
     ref._id = id(ufunc)
     for k in kernels:
         k.ufunc_ref = ref
@@ -198,10 +204,8 @@ def _build_for(sig: Signature, base, name: str) -> Build:
     """The build of one signature: 64-bit elements at half the natural width unless a width is set."""
     build = base.resolved()
     if base.width is None:
-        params, returns = sig.resolved(1, f"kernel '{name}'")
-        kinds = [t for t in list(params) + list(returns if isinstance(returns, tuple) else [returns])
-                 if isinstance(t, VType)]
-        if any(t.kind.bits == 64 for t in kinds):
+        ins, outs = _operands(sig, name)
+        if any(o.kind.bits == 64 for o in ins + outs):
             build = build.replace(width=max(4, build.target.natural_width // 2))
     return build
 

@@ -43,10 +43,10 @@ LOOP_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), T.BYTE
 LOOP_NAMES = ["args", "dims", "steps", "data"]
 #: The runtime's settings and a kernel's LoopConfig (reactor.kernels.parallel), as the IR sees them.
 SETTINGS = T.StructType((INDEX, INDEX, INDEX, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES))
-_CONFIG = T.StructType((T.Address(SETTINGS), INDEX, INDEX, T.BYTES_ARRAY))
-#: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats)
+_CONFIG = T.StructType((T.Address(SETTINGS), INDEX, INDEX, T.BYTES_ARRAY, INDEX))
+#: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes)
 PREPARE_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), INDEX, INDEX, T.PointerType(INDEX),
-                  INDEX, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES]
+                  INDEX, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES, INDEX]
 
 
 def _idx(v: int):
@@ -60,24 +60,52 @@ class KernelBody:
     returns = None
     is_kernel = True
 
-    def __init__(self, name, outputs):
-        self.name, self.outputs = name, outputs
+    def __init__(self, name, outputs, operands=None):
+        self.name, self.outputs = name, outputs  # outputs: one VType per component
+        self.operands = operands  # the result Operands (vector results have several components)
+
+    def split(self, values: list) -> list:
+        """Results as component values: a vector result gives its components."""
+        if self.operands is None or len(values) != len(self.operands):
+            return values
+        flat: list = []
+        for o, v in zip(self.operands, values):
+            flat.extend(list(v) if o.vector and hasattr(v, "size") else [v])
+        return flat
+
+    def join(self, flat: list) -> tuple:
+        """Component values grouped back into the results (vectors for vector results)."""
+        if self.operands is None:
+            return tuple(flat)
+        from ..dsl.vectors import vec_type
+        out, at = [], 0
+        for o in self.operands:
+            comps = flat[at:at + o.channels]
+            at += o.channels
+            out.append(vec_type(o.kind, o.channels)._of(comps) if o.vector else comps[0])
+        return tuple(out)
 
 
-def emit_body(module, name: str, body, in_kinds, out_kinds, width: int):
-    """The internal function ``<name>.body`` (or ``.body1`` at width 1): the user's body traced at ``width``."""
+def emit_body(module, name: str, body, ins, outs, width: int):
+    """The internal function ``<name>.body`` (or ``.body1`` at width 1): the user's body traced
+    at ``width``; ``ins`` and ``outs`` are Operands (``reactor.kernels.operands``)."""
     from ..dsl.control import check_python_returns
 
     check_python_returns(body)
-    outs = [VType(k, width) for k in out_kinds]
-    ret = outs[0] if len(outs) == 1 else T.StructType(tuple(outs))
-    params = [VType(k, width) for k in in_kinds]
+    out_types = [VType(o.kind, width) for o in outs for _ in range(o.channels)]
+    ret = out_types[0] if len(out_types) == 1 else T.StructType(tuple(out_types))
+    params: list = []
+    groups: list[tuple[int, int]] = []
+    for o in ins:
+        types = o.body_params(width)
+        groups.append((len(params), len(types)))
+        params.extend(types)
     fname = f"{name}.body" if width > 1 or module.build.width == 1 else f"{name}.body1"
-    em = _em.FunctionEmitter(module, fname, ret, params, [f"x{k}" for k in range(len(in_kinds))],
+    em = _em.FunctionEmitter(module, fname, ret, params, [f"x{k}" for k in range(len(params))],
                              width=width, internal=True)
-    em.dsl_function = KernelBody(name, outs)
+    em.dsl_function = KernelBody(name, out_types, outs)
     with em:
-        inputs = [value_class(p)._wrap(a, em) for p, a in zip(params, em.params)]
+        inputs = [o.wrap(em, em.params[at:at + count], width) for o, (at, count) in zip(ins, groups)]
         result = body(*inputs)
         if result is not None and not isinstance(result, tuple):
             result = (result,)
@@ -88,7 +116,7 @@ def emit_body(module, name: str, body, in_kinds, out_kinds, width: int):
                 if len(result) != len(outs):
                     raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
                                        f"{len(outs)} output(s)")
-                irs = [to_ir(r, vt) for r, vt in zip(result, outs)]
+                irs = [v for o, r in zip(outs, result) for v in o.flatten(r, width, f"kernel '{name}' result")]
             open_blocks = em.finish()
             if open_blocks and irs is None:
                 raise DSLTypeError("kernel body can reach its end without a result: end it with "
@@ -103,12 +131,18 @@ def emit_body(module, name: str, body, in_kinds, out_kinds, width: int):
 
 class LoopEmitter:
     """Emits ``<name>.loop`` around the body functions of a kernel (``vector`` at the
-    build's width, None when it is 1; ``scalar`` at width 1)."""
+    build's width, None when it is 1; ``scalar`` at width 1) for its Operands."""
 
-    def __init__(self, module, name: str, vector, scalar, in_kinds, out_kinds, width: int):
+    def __init__(self, module, name: str, vector, scalar, ins, outs, width: int):
+        from .operands import core_layout
+
         self.vector_fn, self.scalar_fn = vector, scalar
-        self.ins, self.outs, self.width = in_kinds, out_kinds, width
-        self.kinds = list(in_kinds) + list(out_kinds)
+        self.ins, self.outs, self.width = list(ins), list(outs), width
+        self.operands = self.ins + self.outs
+        # the iterated operands (elements and vectors), inputs first: the loop's columns
+        self.columns = [k for k, o in enumerate(self.operands) if not o.uniform]
+        self.n_in_columns = sum(1 for o in self.ins if not o.uniform)
+        self.core_dims, self.core_strides, self.ndims = core_layout(self.ins, self.outs)
         # Out of line: the dispatcher calls it, and inlining it there would double the machine code.
         self.em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES, width=width, inline="never")
 
@@ -138,15 +172,20 @@ class LoopEmitter:
             args, dims, steps, data = em.params
             self.n = em.load(dims, name="n")
             self.ptrs, self.steps = [], []
-            for k in range(len(self.kinds)):
+            for k in range(len(self.operands)):
                 self.ptrs.append(em.load(em.address(args, k), name=f"arg{k}"))
                 self.steps.append(em.load(em.address(steps, k), name=f"step{k}"))
+            # per operand: core sizes (dims) and core strides (steps), as NumPy's gufunc loop gives them
+            self.sizes = [[em.load(em.address(dims, d), name=f"dim{k}.{j}") for j, d in enumerate(ds)]
+                          for k, ds in enumerate(self.core_dims)]
+            self.strides = [[em.load(em.address(steps, t), name=f"stride{k}.{j}") for j, t in enumerate(ts)]
+                            for k, ts in enumerate(self.core_strides)]
             status = x86.save_fp_status(em)
             self.i = em.alloca(INDEX, "i")
             em.store(_idx(0), self.i)
             scalar = em.new_block("scalar")
             if self.vector_fn is not None:
-                self._vector_loop(args, dims, steps, data, scalar)
+                self._vector_loop(data, scalar)
             else:
                 em.branch(scalar)
             em.goto(scalar)
@@ -156,27 +195,65 @@ class LoopEmitter:
             em.finish()
         return em.function
 
+    def _channel_stride(self, k):
+        """The byte distance between the channels of a vector operand ``k``."""
+        return self.strides[k][-1]
+
+    def _uniform_args(self, k, i):
+        """A uniform operand's body arguments: its base (the array of element ``i``), sizes and strides."""
+        em, o = self.em, self.operands[k]
+        base = em.address(self.ptrs[k], self._mul(i, self.steps[k]), name=f"u{k}")
+        return [base] + list(self.sizes[k][:o.texture.ndim]) + list(self.strides[k])
+
     # -- the vector loop -------------------------------------------------------------
-    def _vector_loop(self, args, dims, steps, data, exit_block):
+    def _vector_loop(self, data, exit_block):
         """W elements per iteration, from where ``reactor_prepare`` (the shared runtime) says:
-        each operand's start (an input's array, or a buffer holding its broadcast value W
-        times) and step, and how many elements the layout lets this loop do (0: none)."""
-        em, W, nargs = self.em, self.width, len(self.kinds)
-        sizes = em.alloca(INDEX, "sizes", count=nargs)
-        for k, kind in enumerate(self.kinds):
-            em.store(_idx(kind.mem_bytes), em.address(sizes, k))
-        srcs = em.alloca(T.BYTES, "srcs", count=nargs)
-        incs = em.alloca(INDEX, "incs", count=nargs)
-        splats = em.alloca(VType(T.BYTE_KIND, 16), "splats", count=max(1, len(self.ins) * W // 2))  # 8 bytes a lane
+        each column's start (an input's array, or a buffer holding its broadcast value W
+        times) and step, and how many elements the layout lets this loop do (0: none). A
+        vector column runs here when its channels are contiguous (then W elements are W *
+        channels contiguous values, split into channels by shuffles); uniform operands must
+        be the same array for every element (outer step 0)."""
+        em, W = self.em, self.width
+        cols = self.columns
+        ncol = len(cols)
+        sizes = em.alloca(INDEX, "sizes", count=max(1, ncol))
+        cargs = em.alloca(T.BYTES, "cargs", count=max(1, ncol))
+        csteps = em.alloca(INDEX, "csteps", count=max(1, ncol))
+        for c, k in enumerate(cols):
+            em.store(_idx(self.operands[k].item_bytes), em.address(sizes, c))
+            em.store(self.ptrs[k], em.address(cargs, c))
+            em.store(self.steps[k], em.address(csteps, c))
+        srcs = em.alloca(T.BYTES, "srcs", count=max(1, ncol))
+        incs = em.alloca(INDEX, "incs", count=max(1, ncol))
+        lane_bytes = max([8] + [self.operands[k].item_bytes for k in cols[:self.n_in_columns]])
+        splats = em.alloca(VType(T.BYTE_KIND, 16), "splats",
+                           count=max(1, self.n_in_columns * W * lane_bytes // 16))
+        fits = []
+        for k, o in enumerate(self.operands):
+            if o.vector and not o.uniform:
+                fits.append(self._cmp("eq", self._channel_stride(k), _idx(o.kind.mem_bytes)))
+            if o.uniform:
+                fits.append(self._cmp("eq", self.steps[k], _idx(0)))
         settings = em.load(em.field(em.cast_pointer(data, _CONFIG), 0), name="settings")
         prepare = em.load(em.field(settings, 4), name="prepare")
-        n_fast = em.call_pointer(prepare, INDEX, PREPARE_PARAMS,
-                                 [args, dims, steps, _idx(len(self.ins)), _idx(nargs), sizes, _idx(W), srcs, incs,
-                                  em.cast_pointer(splats, T.BYTE)], name="n.fast")
-        slots = [em.alloca(T.BYTES, f"p{k}") for k in range(nargs)]
-        step_of = [em.load(em.address(incs, k), name=f"inc{k}") for k in range(nargs)]
-        for k, slot in enumerate(slots):
-            em.store(em.load(em.address(srcs, k), name=f"src{k}"), slot)
+        dims1 = em.alloca(INDEX, "n.only")
+        em.store(self.n, dims1)
+        ask, skip, go = em.new_block("layout"), em.new_block("layout.no"), em.new_block("layout.done")
+        em.cbranch(self._all(fits), ask, skip)
+        em.goto(ask)
+        asked = em.call_pointer(prepare, INDEX, PREPARE_PARAMS,
+                                [cargs, dims1, csteps, _idx(self.n_in_columns), _idx(ncol), sizes, _idx(W), srcs,
+                                 incs, em.cast_pointer(splats, T.BYTE), _idx(lane_bytes)], name="n.fast")
+        em.branch(go)
+        em.goto(skip)
+        em.branch(go)
+        em.goto(go)
+        n_fast = em.phi(INDEX, [(asked, ask), (_idx(0), skip)], name="n.fast")
+        slots = [em.alloca(T.BYTES, f"p{c}") for c in range(ncol)]
+        step_of = [em.load(em.address(incs, c), name=f"inc{c}") for c in range(ncol)]
+        for c, slot in enumerate(slots):
+            em.store(em.load(em.address(srcs, c), name=f"src{c}"), slot)
+        uniforms = {k: self._uniform_args(k, _idx(0)) for k, o in enumerate(self.ins) if o.uniform}
         head, body = em.new_block("vec.cond"), em.new_block("vec.body")
         em.branch(head)
         em.goto(head)
@@ -184,20 +261,53 @@ class LoopEmitter:
         em.cbranch(self._cmp("lt", i, n_fast), body, exit_block)
         em.goto(body)
         i = em.load(self.i, name="i")
-        ptrs = [em.load(slot, name=f"p{k}") for k, slot in enumerate(slots)]
-        xs = [ops.load(em, VType(kind, W), ptrs[k], name=f"x{k}") for k, kind in enumerate(self.ins)]
+        ptrs = {k: em.load(slots[c], name=f"p{c}") for c, k in enumerate(cols)}
+        xs: list = []
+        for k, o in enumerate(self.ins):
+            if o.uniform:
+                xs.extend(uniforms[k])
+            else:
+                xs.extend(self._load_vector(o, ptrs[k], f"x{k}"))
         results = self._call(self.vector_fn, xs, inline="always")
-        for j, (kind, value) in enumerate(zip(self.outs, results)):
-            ops.store(em, VType(kind, W), value, ptrs[len(self.ins) + j])
-        for k, (slot, p) in enumerate(zip(slots, ptrs)):
-            em.store(em.address(p, step_of[k], name=f"p{k}.next"), slot)
+        at = 0
+        for j, o in enumerate(self.outs):
+            self._store_vector(o, results[at:at + o.channels], ptrs[len(self.ins) + j])
+            at += o.channels
+        for c, k in enumerate(cols):
+            em.store(em.address(ptrs[k], step_of[c], name=f"p{c}.next"), slots[c])
         em.store(self._add(i, _idx(W)), self.i)
         em.branch(head)
 
+    def _load_vector(self, o, ptr, name):
+        """W elements of an iterated operand: one value, or its channels deinterleaved."""
+        em, W = self.em, self.width
+        if o.channels == 1:
+            return [ops.load(em, VType(o.kind, W), ptr, name=name)]
+        raw = ops.load(em, VType(o.kind, W * o.channels), ptr, name=name)
+        return [em.shuffle(raw, raw, [lane * o.channels + c for lane in range(W)], name=f"{name}.{c}")
+                for c in range(o.channels)]
+
+    def _store_vector(self, o, values, ptr):
+        em, W, g = self.em, self.width, o.channels
+        if g == 1:
+            ops.store(em, VType(o.kind, W), values[0], ptr)
+            return
+        mem = [ops.to_memory(em, VType(o.kind, W), v) for v in values]
+        parts = mem + [T.undefined(T.memory(VType(o.kind, W)))] * (4 - g if g == 3 else 0)
+        while len(parts) > 1:  # concatenate pairwise: W, 2W, 4W lanes
+            n = parts[0].type.count
+            parts = [em.shuffle(parts[a], parts[a + 1], list(range(2 * n)), name="cat")
+                     for a in range(0, len(parts), 2)]
+        whole = parts[0]
+        interleaved = em.shuffle(whole, whole, [c * W + lane for lane in range(W) for c in range(g)], name="pixels")
+        ptr = em.cast_pointer(ptr, T.memory(VType(o.kind, W * g)), name="out.p")
+        em.store(interleaved, ptr, align=o.kind.mem_bytes)
+
     def _call(self, fn, xs, inline):
         em = self.em
+        count = sum(o.channels for o in self.outs)
         result = em.call(fn, xs, name="r", inline=inline)
-        return [result] if len(self.outs) == 1 else em.unpack(result, len(self.outs))
+        return [result] if count == 1 else em.unpack(result, count)
 
     # -- the scalar loop --------------------------------------------------------------------
     def _scalar_loop(self):
@@ -210,17 +320,34 @@ class LoopEmitter:
         em.cbranch(self._cmp("lt", i, self.n), body, done)
         em.goto(body)
         i = em.load(self.i, name="j")
-        addrs = [em.address(p, self._mul(i, self.steps[k]), name=f"e{k}") for k, p in enumerate(self.ptrs)]
-        xs = [ops.from_memory(em, VType(kind, 1), em.load(em.cast_pointer(addrs[k], T.memory(VType(kind, 1))),
-                                                          align=1, name=f"in{k}"), name=f"x{k}")
-              for k, kind in enumerate(self.ins)]
+        xs: list = []
+        for k, o in enumerate(self.ins):
+            if o.uniform:
+                xs.extend(self._uniform_args(k, i))
+                continue
+            for c, addr in enumerate(self._element_addresses(k, i)):
+                vt = VType(o.kind, 1)
+                raw = em.load(em.cast_pointer(addr, T.memory(vt)), align=1, name=f"in{k}.{c}")
+                xs.append(ops.from_memory(em, vt, raw, name=f"x{k}.{c}"))
         results = self._call(self.scalar_fn, xs, inline="always")
-        for j, (kind, value) in enumerate(zip(self.outs, results)):
-            vt = VType(kind, 1)
-            em.store(ops.to_memory(em, vt, value), em.cast_pointer(addrs[len(self.ins) + j], T.memory(vt)), align=1)
+        at = 0
+        for j, o in enumerate(self.outs):
+            vt = VType(o.kind, 1)
+            for c, addr in enumerate(self._element_addresses(len(self.ins) + j, i)):
+                em.store(ops.to_memory(em, vt, results[at + c]), em.cast_pointer(addr, T.memory(vt)), align=1)
+            at += o.channels
         em.store(self._add(i, _idx(1)), self.i)
         em.branch(head)
         em.goto(done)
+
+    def _element_addresses(self, k, i):
+        """The addresses of element ``i``'s channels of iterated operand ``k``."""
+        em, o = self.em, self.operands[k]
+        start = em.address(self.ptrs[k], self._mul(i, self.steps[k]), name=f"e{k}")
+        if o.channels == 1:
+            return [start]
+        return [start] + [em.address(start, self._mul(_idx(c), self._channel_stride(k)), name=f"e{k}.{c}")
+                          for c in range(1, o.channels)]
 
 
 def estimated_cycles(body_fn, width: int) -> float:
@@ -277,8 +404,9 @@ def emit_dispatcher(module, name: str, serial) -> object:
         em.cbranch(worth, parallel, serial_block)
         em.goto(parallel)
         parallel_for = em.load(em.field(settings, 3), name="parallel_for")
-        em.call_pointer(parallel_for, None, [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX],
-                        [em.function_address(serial, name="serial"), args, dims, steps, data, nargs, threads])
+        ndims = em.load(em.field(cfg, 4), name="ndims")
+        em.call_pointer(parallel_for, None, [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX, INDEX],
+                        [em.function_address(serial, name="serial"), args, dims, steps, data, nargs, threads, ndims])
         done = em.new_block("done")
         em.branch(done)
         em.goto(serial_block)

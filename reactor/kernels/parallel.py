@@ -46,6 +46,8 @@ ALIGN = 64
 CHUNKS_PER_THREAD = 4
 #: At most this many threads per call.
 MAX_THREADS = 256
+#: Entries of NumPy's ``dims`` a loop may read: the loop size and a gufunc's core dimensions.
+MAX_DIMS = 64
 DEFAULT_THRESHOLD = 4096
 #: Estimated cycles a call must cost before it is split: starting and joining a
 #: thread costs ~15-40 us, so the split pays from a few hundred microseconds
@@ -68,7 +70,8 @@ class LoopConfig(ctypes.Structure):
     """What a kernel's dispatcher reads through NumPy's per-loop ``data`` pointer."""
 
     _fields_ = [("settings", ctypes.POINTER(SettingsStruct)), ("nargs", ctypes.c_int64),
-                ("cycles_per_element", ctypes.c_int64), ("messages", ctypes.POINTER(ctypes.c_char_p))]
+                ("cycles_per_element", ctypes.c_int64), ("messages", ctypes.POINTER(ctypes.c_char_p)),
+                ("ndims", ctypes.c_int64)]  # entries of NumPy's dims: 1 + a gufunc's core dimensions
 
 
 class Settings(NamedTuple):
@@ -119,15 +122,18 @@ def settings() -> Settings:
     return Settings(_settings.threads, _settings.threshold, _settings.min_work)
 
 
-def make_config(nargs: int, cycles_per_element: float, messages=()) -> LoopConfig:
+def make_config(nargs: int, cycles_per_element: float, messages=(), ndims: int = 1) -> LoopConfig:
     """The ``data`` block for one kernel loop (keep it alive as long as the ufunc): ``messages``
-    are the errors of its loops that run out of iterations."""
+    are the errors of its loops that run out of iterations; ``ndims`` the entries of NumPy's
+    ``dims`` its loop reads (1 + a gufunc's distinct core dimensions)."""
+    if ndims > MAX_DIMS:
+        raise ValueError(f"a kernel may have at most {MAX_DIMS - 1} core dimensions, not {ndims - 1}")
     if _settings.parallel_for is None:
         _settings.parallel_for = runtime().address("reactor_parallel_for")
         _settings.prepare = runtime().address("reactor_prepare")
     cycles = max(1, int(round(cycles_per_element * CYCLES_SCALE)))
     table = (ctypes.c_char_p * max(1, len(messages)))(*[m.encode() for m in messages])
-    config = LoopConfig(ctypes.pointer(_settings), nargs, cycles, table)
+    config = LoopConfig(ctypes.pointer(_settings), nargs, cycles, table, ndims)
     config._keep = table  # the strings live as long as the config
     return config
 
@@ -151,8 +157,9 @@ def _emit_runtime(module) -> None:
 
     bool1, i32 = VType(KINDS["Bool"], 1), VType(KINDS["Int"], 1)
     idx = lambda v: T.const(INDEX, v)  # noqa: E731
-    # struct Task { loop, args, steps, data, nargs, n, chunk, next }
-    task_t = T.StructType((T.BYTES, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES, INDEX, INDEX, INDEX, INDEX))
+    # struct Task { loop, args, steps, data, nargs, n, chunk, next, dims, ndims }
+    task_t = T.StructType((T.BYTES, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES, INDEX, INDEX, INDEX, INDEX,
+                           T.PointerType(INDEX), INDEX))
     create = module.declare("pthread_create", i32, [T.PointerType(INDEX), T.BYTES, T.BYTES, T.BYTES])
     join = module.declare("pthread_join", i32, [INDEX, T.BYTES])
 
@@ -166,8 +173,21 @@ def _emit_runtime(module) -> None:
         f = [em.load(em.field(task, k), name=name) for k, name in
              enumerate(("loop", "args", "steps", "data", "nargs", "n", "chunk"))]
         loop, args, steps, data, nargs, n, chunk = f
+        dims, ndims = em.load(em.field(task, 8), name="dims"), em.load(em.field(task, 9), name="ndims")
         sub_args = em.alloca(T.BYTES, "sub_args", count=64)  # NumPy ufuncs have at most 64 operands
-        sub_n = em.alloca(INDEX, "sub_n")
+        sub_n = em.alloca(INDEX, "sub_n", count=MAX_DIMS)  # the chunk's size, then the core dimensions
+        d_slot = em.alloca(INDEX, "d")
+        em.store(idx(1), d_slot)
+        d_head, d_each, d_done = em.new_block("dims"), em.new_block("dims.each"), em.new_block("dims.done")
+        em.branch(d_head)
+        em.goto(d_head)
+        d = em.load(d_slot, name="d")
+        em.cbranch(ops.compare(em, INDEX, "lt", d, ndims), d_each, d_done)
+        em.goto(d_each)
+        em.store(em.load(em.address(dims, d), name="dim"), em.address(sub_n, d))
+        em.store(add(em, d, idx(1)), d_slot)
+        em.branch(d_head)
+        em.goto(d_done)
         head, body, copy, call, done = (em.new_block(b) for b in ("take", "chunk", "args", "run", "done"))
         em.branch(head)
         em.goto(head)
@@ -199,18 +219,18 @@ def _emit_runtime(module) -> None:
         em.ret(T.null(T.BYTES))
         em.finish()
 
-    # void reactor_parallel_for(loop, args, dims, steps, data, nargs, threads)
-    params = [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX]
-    names = ["loop", "args", "dims", "steps", "data", "nargs", "threads"]
+    # void reactor_parallel_for(loop, args, dims, steps, data, nargs, threads, ndims)
+    params = [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX, INDEX]
+    names = ["loop", "args", "dims", "steps", "data", "nargs", "threads", "ndims"]
     pf = _em.FunctionEmitter(module, "reactor_parallel_for", None, params, names, width=1)
     with pf as em:
-        loop, args, dims, steps, data, nargs, threads = em.params
+        loop, args, dims, steps, data, nargs, threads, ndims = em.params
         n = em.load(dims, name="n")
         per = ops.binary(em, "mul", INDEX, threads, idx(CHUNKS_PER_THREAD))
         chunk = ops.binary(em, "div", INDEX, add(em, n, ops.binary(em, "sub", INDEX, per, idx(1))), per)
         chunk = ops.binary(em, "and", INDEX, add(em, chunk, idx(ALIGN - 1)), idx(-ALIGN))
         task = em.alloca(task_t, "task")
-        for k, v in enumerate((loop, args, steps, data, nargs, n, chunk, idx(0))):
+        for k, v in enumerate((loop, args, steps, data, nargs, n, chunk, idx(0), dims, ndims)):
             em.store(v, em.field(task, k))
         tids = em.alloca(INDEX, "tids", count=MAX_THREADS)
         made = em.alloca(T.BYTE, "made", count=MAX_THREADS)
@@ -255,19 +275,19 @@ def _emit_runtime(module) -> None:
 
 
 def _emit_prepare(module) -> None:
-    """``i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats)``: whether
+    """``i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes)``: whether
     a kernel's vector loop may run on this call's layout and from where. It may when every output is
     contiguous, every input contiguous or broadcast (stride 0), and no output starts inside an
     input's extent ahead of the input (``ufunc.accumulate`` passes ``out[i-1]`` as input ``i``; for
     ordinary calls NumPy copies overlapping operands). Then it sets each operand's start
     (``srcs``: the array, or for a broadcast input its value repeated ``width`` times in
-    ``splats``, 8 bytes a lane) and step in bytes (``incs``), and returns ``n`` rounded down to a
+    ``splats``, ``lane_bytes`` a lane) and step in bytes (``incs``), and returns ``n`` rounded down to a
     multiple of ``width``; otherwise 0."""
     from .loop import PREPARE_PARAMS
 
     bool1 = VType(KINDS["Bool"], 1)
     idx = lambda v: T.const(INDEX, v)  # noqa: E731
-    names = ["args", "dims", "steps", "nin", "nargs", "sizes", "width", "srcs", "incs", "splats"]
+    names = ["args", "dims", "steps", "nin", "nargs", "sizes", "width", "srcs", "incs", "splats", "lane_bytes"]
     em = _em.FunctionEmitter(module, "reactor_prepare", INDEX, PREPARE_PARAMS, names, width=1)
 
     def loop(count, body, name):
@@ -286,7 +306,7 @@ def _emit_prepare(module) -> None:
         em.goto(done)
 
     with em:
-        args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats = em.params
+        args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes = em.params
         n = em.load(dims, name="n")
         short, long_ = em.new_block("short"), em.new_block("long")
         em.cbranch(ops.compare(em, INDEX, "lt", n, width), short, long_)  # no whole vector: read nothing
@@ -325,13 +345,12 @@ def _emit_prepare(module) -> None:
         em.goto(none)
         em.ret(idx(0))
         em.goto(fits)
-        lane_bytes = 8
 
         def where(k):
             step, size = em.load(em.address(steps, k), name="step"), em.load(em.address(sizes, k), name="size")
             arg = em.load(em.address(args, k), name="arg")
             buffer = em.address(splats, ops.binary(em, "mul", INDEX, k, ops.binary(em, "mul", INDEX, width,
-                                                                                      idx(lane_bytes))), name="buf")
+                                                                                      lane_bytes)), name="buf")
             broadcast, contiguous_b, done = em.new_block("bcast"), em.new_block("contig"), em.new_block("set")
             em.cbranch(ops.binary(em, "and", bool1, ops.compare(em, INDEX, "lt", k, nin),
                                   ops.compare(em, INDEX, "eq", step, idx(0))), broadcast, contiguous_b)

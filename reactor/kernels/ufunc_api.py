@@ -15,8 +15,9 @@ import functools
 
 import numpy as np
 
-# Index of PyUFunc_FromFuncAndData in the API table (numpy/_core/code_generators/numpy_api.py).
+# Indices in the API table (numpy/_core/code_generators/numpy_api.py; the same in NumPy 1.x and 2.x).
 _FROM_FUNC_AND_DATA = 1
+_FROM_FUNC_AND_DATA_AND_SIGNATURE = 31
 _IDENTITY_NONE = -1  # PyUFunc_None: no identity, so no reductions are implied
 
 
@@ -41,6 +42,14 @@ def _from_func_and_data():
 
 
 @functools.cache
+def _from_func_and_data_and_signature():
+    proto = ctypes.PYFUNCTYPE(
+        ctypes.py_object, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_char_p, ctypes.c_int,
+        ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p)
+    return proto(_api_table()[_FROM_FUNC_AND_DATA_AND_SIGNATURE])
+
+
+@functools.cache
 def _obj_offset() -> int:
     """Byte offset of ``PyUFuncObject.obj``, found (not assumed) by probing a
     ``frompyfunc`` ufunc, whose ``obj`` slot holds the wrapped callable."""
@@ -56,8 +65,10 @@ def _obj_offset() -> int:
 
 
 def make_ufunc(name: str, doc: str, loops: list[int], signatures: list[list[np.dtype]],
-               nin: int, nout: int, owner: object, data: list[int] | None = None) -> np.ufunc:
-    """A ufunc with one machine-code inner loop per signature (dtypes of inputs then outputs).
+               nin: int, nout: int, owner: object, data: list[int] | None = None,
+               signature: str | None = None) -> np.ufunc:
+    """A ufunc with one machine-code inner loop per signature (dtypes of inputs then outputs);
+    with a gufunc ``signature`` (``"(3),()->(4)"``) a generalized ufunc.
 
     ``data[i]`` is passed to loop i as its last argument. ``owner`` must hold
     the loops' machine code and whatever ``data`` points to; the ufunc keeps it alive.
@@ -70,10 +81,16 @@ def make_ufunc(name: str, doc: str, loops: list[int], signatures: list[list[np.d
     types = ctypes.create_string_buffer(bytes(np.dtype(t).num for sig in signatures for t in sig),
                                         ntypes * (nin + nout))
     name_b, doc_b = ctypes.create_string_buffer(name.encode()), ctypes.create_string_buffer(doc.encode())
-    ufunc = _from_func_and_data()(ctypes.addressof(funcs), ctypes.addressof(data_array), ctypes.cast(types, ctypes.c_char_p),
-                                  ntypes, nin, nout, _IDENTITY_NONE, ctypes.cast(name_b, ctypes.c_char_p),
-                                  ctypes.cast(doc_b, ctypes.c_char_p), 0)
-    keep = (owner, funcs, data_array, types, name_b, doc_b)
+    common = (ctypes.addressof(funcs), ctypes.addressof(data_array), ctypes.cast(types, ctypes.c_char_p),
+              ntypes, nin, nout, _IDENTITY_NONE, ctypes.cast(name_b, ctypes.c_char_p),
+              ctypes.cast(doc_b, ctypes.c_char_p), 0)
+    sig_b = None
+    if signature is None:
+        ufunc = _from_func_and_data()(*common)
+    else:
+        sig_b = ctypes.create_string_buffer(signature.encode())
+        ufunc = _from_func_and_data_and_signature()(*common, ctypes.cast(sig_b, ctypes.c_char_p))
+    keep = (owner, funcs, data_array, types, name_b, doc_b, sig_b)
     slot = ctypes.c_void_p.from_address(id(ufunc) + _obj_offset())
     if slot.value is not None:
         raise RuntimeError("new ufunc unexpectedly has an obj")

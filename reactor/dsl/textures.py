@@ -1,0 +1,315 @@
+"""Tables and textures: whole arrays a kernel reads with per-lane coordinates.
+
+A kernel parameter annotated ``Table[Float]``, ``Texture2D[vec4]`` or
+``Texture3D[vec3]`` is not iterated over: every lane sees the whole array (the
+kernel becomes a NumPy generalized ufunc with the array's axes as core
+dimensions, so ``shade(uv_x, uv_y, image)`` takes an (H, W, 4) image whole).
+The element names the texel: a kind (``Float``, ``UByte``, ``Half`` ...: one
+channel) or a vector (``vec4``, ``u8vec4``, ``f16vec3`` ...: that many channels,
+the array's last axis). Further items set the sampler state::
+
+    Texture2D[u8vec4, "repeat", "linear"]     # RGBA8, wrapping, bilinear
+    Table[Int, "clamp"]                         # a lookup table of int32
+
+Out-of-range coordinates follow the wrap mode: ``"clamp"`` (to the edge, the
+default), ``"repeat"``, ``"mirror"`` (mirrored repeat) or ``"border"`` (zero:
+GLSL's transparent black). No lane ever reads outside the array; lanes that
+are not active (per-lane control flow) read nothing.
+
+* ``table[i]`` (a Table): the element at index ``i`` (an Int per lane or a
+  scalar), in its own kind (an Int table gives Int).
+* ``tex.fetch(x, y)`` / GLSL ``texelFetch``: the texel at integer coordinates
+  (``x`` along the last image axis before the channels: an (H, W, C) array is
+  indexed ``[y, x]``), as Float (UByte and UShort texels normalized to [0, 1]
+  as GLSL's unorm formats, Half converted); a vector for several channels.
+* ``tex.sample(u, v)`` / GLSL ``texture``: at normalized coordinates (0..1
+  across the texture, ``v = 0`` the array's first row, as the first row
+  OpenGL uploads), filtered ``"nearest"`` (the default) or ``"linear"``
+  (bilinear: ``mix(mix(t00, t10, fx), mix(t01, t11, fx), fy)`` at ``u * W - 0.5``).
+* ``tex.size`` : the sizes as Int values (x first: ``(W, H)``).
+"""
+from __future__ import annotations
+
+import dataclasses
+import typing
+
+from ..errors import DSLTypeError
+from ..ir import emitter as _em
+from ..ir import ops
+from ..ir import types as T
+from ..ir.types import INDEX, KINDS, Kind, VType
+from .values import Value, value_class
+
+WRAPS = ("clamp", "repeat", "mirror", "border")
+FILTERS = ("nearest", "linear")
+#: What a texel's kind becomes when sampled: unorm formats are normalized by this.
+UNORM_SCALE = {"UByte": 255.0, "UShort": 65535.0}
+
+
+@dataclasses.dataclass(frozen=True)
+class TextureSpec:
+    """What ``Texture2D[vec4, "repeat"]`` names: ``ndim`` coordinate axes, the texel's
+    ``kind`` and ``channels``, the wrap mode and the filter."""
+
+    family: str
+    ndim: int
+    kind: Kind
+    channels: int
+    wrap: str = "clamp"
+    filter: str = "nearest"
+
+    @property
+    def name(self) -> str:
+        element = self.kind.name if self.channels == 1 else f"{self.kind.name}x{self.channels}"
+        return f"{self.family}[{element}, {self.wrap!r}, {self.filter!r}]"
+
+    @property
+    def core_axes(self) -> int:
+        """The array's axes: the coordinates, then the channels (if more than one)."""
+        return self.ndim + (1 if self.channels > 1 else 0)
+
+    def __repr__(self) -> str:
+        return self.name
+
+
+class _Family:
+    """``Table``, ``Texture2D``, ``Texture3D``: subscripted to make a TextureSpec."""
+
+    def __init__(self, name: str, ndim: int) -> None:
+        self.name, self.ndim = name, ndim
+
+    def __getitem__(self, items) -> TextureSpec:
+        from .vectors import Vec
+
+        items = items if isinstance(items, tuple) else (items,)
+        element, rest = items[0], items[1:]
+        if isinstance(element, type) and issubclass(element, Vec):
+            kind, channels = element.kind, element.size
+        elif isinstance(element, type) and issubclass(element, Value) and getattr(element, "vtype", None) \
+                and element.vtype.width == 1:
+            kind, channels = element.vtype.kind, 1
+        else:
+            raise DSLTypeError(f"{self.name}[...] takes a texel type first (Float, UByte, vec4, u8vec4 ...), "
+                               f"not {element!r}")
+        if kind.category == "bool":
+            raise DSLTypeError(f"{self.name} of Bool: store masks as UByte")
+        wrap, filt = "clamp", "nearest"
+        for item in rest:
+            if item in WRAPS:
+                wrap = item
+            elif item in FILTERS:
+                filt = item
+            else:
+                raise DSLTypeError(f"{self.name}[...]: {item!r} is neither a wrap mode ({', '.join(WRAPS)}) "
+                                   f"nor a filter ({', '.join(FILTERS)})")
+        if filt == "linear" and not kind.is_float and kind.name not in UNORM_SCALE:
+            raise DSLTypeError(f"{self.name} of {kind.name}: linear filtering needs float or unorm texels")
+        return TextureSpec(self.name, self.ndim, kind, channels, wrap, filt)
+
+    def __repr__(self) -> str:
+        return self.name
+
+
+Table = _Family("Table", 1)
+Texture2D = _Family("Texture2D", 2)
+Texture3D = _Family("Texture3D", 3)
+
+
+class TextureValue:
+    """A table or texture inside a body: its base address, sizes and byte strides (uniform)."""
+
+    def __init__(self, spec: TextureSpec, base, sizes, strides) -> None:
+        self.spec, self.base = spec, base
+        self._sizes = list(sizes)  # i64 IR values, array axis order (z, y, x)
+        self._strides = list(strides)  # i64 IR values, per array axis (+ the channel axis)
+
+    # -- what a body asks ----------------------------------------------------------------
+    @property
+    def size(self) -> tuple[Value, ...]:
+        """The sizes as Int values, x first (``(W, H)`` for an (H, W, C) image)."""
+        em = _em.current()
+        i32 = VType(KINDS["Int"], 1)
+        return tuple(value_class(i32)._wrap(ops.convert(em, INDEX, i32, s, saturate=False), em)
+                     for s in reversed(self._sizes))
+
+    def __getitem__(self, index) -> typing.Any:
+        if self.spec.ndim != 1:
+            raise DSLTypeError(f"{self.spec.family} is indexed with fetch(x, y ...); [] is for a Table")
+        return self._texels([index], normalize=False)
+
+    def fetch(self, *coords) -> typing.Any:
+        """The texel at integer coordinates (x first), as Float (a vector for several channels)."""
+        coords = _coords(coords, self.spec.ndim, "fetch")
+        return self._texels(coords, normalize=True)
+
+    def sample(self, *coords) -> typing.Any:
+        """The filtered texel at normalized coordinates (x first: u, v, w)."""
+        coords = _coords(coords, self.spec.ndim, "sample")
+        for c in coords:
+            if not (isinstance(c, (int, float)) or isinstance(c, Value) and c.kind.is_float):
+                raise DSLTypeError(f"sample takes Float coordinates (0..1 across the texture), not {c!r}")
+        sizes = [self._float_size(a) for a in range(self.spec.ndim)]  # x first
+        if self.spec.filter == "nearest":
+            from .intrinsics import Floor
+            ints = [_to_int(Floor(_as_float(c) * s)) for c, s in zip(coords, sizes)]
+            return self._texels(ints, normalize=True)
+        return self._linear(coords, sizes)
+
+    # -- how ---------------------------------------------------------------------------------
+    def _float_size(self, axis: int) -> Value:
+        """The size along coordinate ``axis`` (x = 0) as a Float."""
+        em = _em.current()
+        size = self._sizes[self.spec.ndim - 1 - axis]
+        f32 = VType(KINDS["Float"], 1)
+        return value_class(f32)._wrap(ops.convert(em, INDEX, f32, size), em)
+
+    def _linear(self, coords, sizes):
+        from .intrinsics import Floor
+        fracs, lows = [], []
+        for c, s in zip(coords, sizes):
+            t = _as_float(c) * s - 0.5
+            low = Floor(t)
+            fracs.append(t - low)
+            lows.append(_to_int(low))
+        corners = {}
+        for corner in range(1 << self.spec.ndim):
+            ints = [low + ((corner >> a) & 1) for a, low in enumerate(lows)]
+            corners[corner] = self._texels(ints, normalize=True)
+        for a, f in enumerate(fracs):  # mix along x, then y, then z
+            step = 1 << a
+            corners = {c: _mix(corners[c], corners[c | step], f) for c in corners if not c & step}
+        return corners[0]
+
+    def _texels(self, coords, normalize: bool):
+        """Gather the texels at integer ``coords`` (x first) with the wrap mode."""
+        from .lanes import active_mask
+        em = _em.current()
+        spec = self.spec
+        coords = [_as_int(c) for c in coords]
+        width = max(c.width for c in coords)
+        i32, i64 = VType(KINDS["Int"], width), VType(INDEX.kind, width)
+        mask = active_mask()
+        mask_ir = None if mask is None else _widen_mask(mask, width)
+        offset = T.const(i64, 0)
+        for axis, c in enumerate(coords):
+            array_axis = spec.ndim - 1 - axis
+            n = ops.convert(em, INDEX, VType(KINDS["Int"], 1), _clamped_size(em, self._sizes[array_axis]),
+                            saturate=False)
+            index, inside = _wrap(em, spec.wrap, _splat(em, c.ir, c.width, width), em.splat(n, width), i32)
+            if inside is not None:
+                mask_ir = inside if mask_ir is None else ops.binary(em, "and", i32.with_kind("Bool"), mask_ir, inside)
+            index64 = ops.convert(em, i32, i64, index)
+            offset = ops.binary(em, "add", i64, offset, ops.binary(em, "mul", i64, index64,
+                                                                  em.splat(self._strides[array_axis], width)))
+        # an empty array: no lane reads
+        nonempty = self._nonempty(em, width)
+        mask_ir = nonempty if mask_ir is None else ops.binary(em, "and", i32.with_kind("Bool"), mask_ir, nonempty)
+        vt = VType(spec.kind, width)
+        comps = []
+        for ch in range(spec.channels):
+            at = offset if ch == 0 else ops.binary(em, "add", i64, offset, ops.binary(
+                em, "mul", i64, em.splat(self._strides[spec.ndim], width), T.const(i64, ch)))
+            raw = em.gather(vt, self.base, at, mask_ir, name="texel")
+            value = value_class(vt)._wrap(raw, em)
+            comps.append(_normalized(value) if normalize else value)
+        if spec.channels == 1:
+            return comps[0]
+        from .vectors import vec_type
+        return vec_type(comps[0].kind, spec.channels)._of(comps)
+
+    def _nonempty(self, em, width: int):
+        bool1 = VType(KINDS["Bool"], 1)
+        ok = T.const(bool1, 1)
+        for s in self._sizes:
+            ok = ops.binary(em, "and", bool1, ok, ops.compare(em, INDEX, "gt", s, T.const(INDEX, 0)))
+        return em.splat(ok, width)
+
+
+def _coords(coords, ndim: int, what: str):
+    from .vectors import Vec
+    flat: list = []
+    for c in coords:
+        flat.extend(c if isinstance(c, Vec) else [c])
+    if len(flat) != ndim:
+        raise DSLTypeError(f"{what} takes {ndim} coordinate(s) (x first), got {len(flat)}")
+    return flat
+
+
+def _as_int(c) -> Value:
+    if isinstance(c, bool) or not isinstance(c, (int, Value)):
+        raise DSLTypeError(f"a texel index must be an Int (per lane or uniform) or an int, not {c!r}")
+    if isinstance(c, int):
+        return value_class(VType(KINDS["Int"], 1))(c)
+    if not c.kind.is_integer:
+        raise DSLTypeError(f"a texel index must be an integer, not {c.vtype.name}: use fetch for integer "
+                           f"coordinates and sample for normalized ones")
+    return c if c.kind.name == "Int" else value_class(c.vtype.with_kind("Int"))(c)
+
+
+def _as_float(c) -> Value:
+    return c if isinstance(c, Value) else value_class(VType(KINDS["Float"], 1))(float(c))
+
+
+def _to_int(x: Value) -> Value:
+    from .intrinsics import ToInt
+    return ToInt(x)  # saturating: NaN gives 0, huge values the largest Int (then wrapped)
+
+
+def _splat(em, ir_value, from_width: int, width: int):
+    return ir_value if from_width == width else em.splat(ir_value, width)
+
+
+def _widen_mask(mask: Value, width: int):
+    if mask.width == width:
+        return mask.ir
+    if mask.width == 1:
+        return _em.current().splat(mask.ir, width)
+    raise DSLTypeError(f"texel coordinates of {width} lanes under a condition of {mask.width} lanes")
+
+
+def _clamped_size(em, size):
+    """A size as an i64 no larger than the largest Int (coordinates are Int)."""
+    big = T.const(INDEX, 2 ** 31 - 1)
+    return em.select(ops.compare(em, INDEX, "gt", size, big), big, size, name="size")
+
+
+def _wrap(em, mode: str, i, n, vt: VType):
+    """(index in [0, n), inside mask or None) for coordinate ``i`` of an axis of ``n`` texels."""
+    zero, one = T.const(vt, 0), T.const(vt, 1)
+    last = ops.binary(em, "sub", vt, n, one)
+    if mode == "clamp" or mode == "border":
+        clamped = ops.binary(em, "max", vt, ops.binary(em, "min", vt, i, last), zero)
+        if mode == "clamp":
+            return clamped, None
+        inside = ops.binary(em, "and", vt.with_kind("Bool"), ops.compare(em, vt, "ge", i, zero),
+                            ops.compare(em, vt, "lt", i, n))
+        return clamped, inside
+    if mode == "repeat":
+        return _floor_mod(em, vt, i, n), None
+    # mirror: period 2n, the second half reflected (GL_MIRRORED_REPEAT)
+    two_n = ops.binary(em, "add", vt, n, n)
+    m = _floor_mod(em, vt, i, two_n)
+    back = ops.binary(em, "sub", vt, ops.binary(em, "sub", vt, two_n, one), m)
+    return em.select(ops.compare(em, vt, "lt", m, n), m, back, name="mirror"), None
+
+
+def _floor_mod(em, vt, i, n):
+    """``i mod n`` in [0, n) (n > 0; n = 0 gives 0, and no lane reads then)."""
+    r = ops.binary(em, "rem", vt, i, n)
+    negative = ops.compare(em, vt, "lt", r, T.const(vt, 0))
+    return em.select(negative, ops.binary(em, "add", vt, r, n), r, name="mod")
+
+
+def _normalized(v: Value) -> Value:
+    """A texel as Float: unorm integers over their maximum (correctly rounded), Half widened."""
+    kind = v.kind.name
+    f32 = value_class(v.vtype.with_kind("Float"))
+    if kind in UNORM_SCALE:
+        return f32(v) / UNORM_SCALE[kind]
+    if kind == "Half":
+        return f32(v)
+    return v
+
+
+def _mix(a, b, t):
+    return a * (1.0 - t) + b * t
