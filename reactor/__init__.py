@@ -18,6 +18,7 @@ from .dsl.intrinsics import (
     build_settings, fma_mode, precision, target_features,
 )
 from .dsl.calls import RoutineCall, routine_call
+from .dsl.inline import inline
 from .dsl.signature import SIMD, Pointer
 from .dsl.textures import Table, Texture2D, Texture3D
 from .dsl.values import Value, set_power, vector_type
@@ -67,7 +68,7 @@ __all__ = [
     *(f"{kind}{'' if w == 1 else w}" for kind in ("Float", "Double", "Int", "UInt", "Bool", "UByte", "UShort",
                                                   "Half") for w in WIDTHS),
     # control flow
-    "If", "Elif", "Else", "While", "For", "Return", "Break", "Continue",
+    "If", "Elif", "Else", "While", "For", "Return", "Break", "Continue", "inline",
     # intrinsics
     "Abs", "All", "Any", "As", "Ceil", "CopySign", "Exponent", "Extract", "Floor", "Fma", "Fract", "Insert",
     "IsFinite", "IsInf", "IsNan", "LaneIndex", "LRint", "Max", "MaxNum", "Min", "MinNum", "MulAdd", "RcpApprox",

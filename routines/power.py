@@ -31,10 +31,39 @@ from .exponential import exp2
 from .logarithm import log2
 
 
+#: Whole-number constant exponents computed by multiplication (as Dr.Jit and compilers do), those
+#: whose chains stay within the full-precision tolerance (3 ULP + 2|y log2 x|) with margin, x near 1
+#: included (6M samples, 2M of them in 1 +- 1e-3): max error 0.5 / 1.28 / 1.89 / 2.91 / 3.43 ULP for
+#: y = 2..6, min margin 0.89 ULP (y = 6); 1/x^2: 4.2 ULP, margin 1.6. From y = -3 down the margin goes
+#: (y = -5: -0.9), so those take exp2(y log2 x).
+WHOLE_EXPONENTS = range(-2, 7)
+
+
+def _whole_power(x, n: int):
+    """|x|^n by multiplications (n != 0), NaN for x < 0 (powr): the specials come out as pow's."""
+    a = reactor.Abs(x)
+    result: reactor.Value | None = None
+    base, k = a, abs(n)
+    while k:
+        if k & 1:
+            result = base if result is None else result * base
+        k >>= 1
+        if k:
+            base = base * base
+    assert result is not None  # n != 0
+    if n < 0:
+        result = 1.0 / result
+    return reactor.Select(x < 0.0, float("nan"), result)
+
+
 @routine
 def pow(x, y, precision: Precision = Precision.FULL):  # noqa: A001 - the routine's public name
-    """x^y with powr semantics; x and y are Float values (a scalar broadcasts)."""
+    """x^y with powr semantics; x and y are Float values (a scalar broadcasts). A constant
+    whole-number ``y`` in ``WHOLE_EXPONENTS`` (``pow(x, 5.0)``) is a chain of multiplications."""
     x = float_value(x, "pow", "x")
+    if isinstance(y, (int, float)) and not isinstance(y, bool) and float(y).is_integer() \
+            and int(y) in WHOLE_EXPONENTS and int(y) != 0:
+        return _whole_power(x, int(y)).named("pow")
     y = float_value(y, "pow", "y")
     return exp2(y * log2(x, precision=precision), precision=precision).named("pow")
 

@@ -486,14 +486,28 @@ def _untracked(what: str) -> ControlFlowError:
                             f"sees it and keeps a mask of the lanes still in it")
 
 
-def Return(value: typing.Any = None) -> None:
+def Return(value: typing.Any = None, *, body: bool = False) -> None:
     """Return ``value`` (or nothing) from the function being built; in a kernel's body, or under a
     per-lane condition, for the active lanes (the others go on; a kernel's result for a lane is the
-    value of its first Return, else the body's Python ``return``)."""
+    value of its first Return, else the body's Python ``return``). Inside an ``@inline`` helper it
+    returns from the helper; in a plain Python helper it is an error unless ``body=True`` (return
+    from the body that called the helper)."""
+    return_value(value, from_user=not body)
+
+
+def return_value(value: typing.Any, from_user: bool) -> None:
+    """``Return(value)``; ``from_user`` False for the body's own Python ``return`` (and
+    ``Return(v, body=True)``), which may come from anywhere."""
     em = _em.current()
     fn = em.dsl_function
     lanes = lanes_of(em)
     active = lanes.active()
+    if lanes.calls and from_user:  # inside an @inline helper: return from it
+        from .inline import record_return
+        record_return(em, lanes.calls[-1], value, active)
+        return
+    if from_user:
+        _check_not_in_helper(em, fn)
     kernel = getattr(fn, "is_kernel", False)
     expected = fn.returns
     if not kernel:
@@ -517,6 +531,18 @@ def Return(value: typing.Any = None) -> None:
             em.ret(result)
         return
     record_lane_results(em, fn, value, active)
+
+
+def _check_not_in_helper(em, fn) -> None:
+    """Refuse ``Return`` in a plain Python helper: it would return from the whole body."""
+    body_code = getattr(em, "body_code", None)
+    frame = user_frame()
+    if body_code is None or frame is None or frame.f_code is body_code:
+        return
+    raise ControlFlowError(
+        f"Return inside '{frame.f_code.co_name}', a Python helper called from '{fn.name}': it would return "
+        f"from '{fn.name}' itself. Decorate the helper with @reactor.inline to make its Return return from "
+        f"it (as a GLSL function's return), or write Return(value, body=True) if '{fn.name}' should return")
 
 
 def record_lane_results(em, fn, value, active) -> None:

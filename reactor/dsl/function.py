@@ -53,16 +53,17 @@ class FunctionDef:
         em = _em.FunctionEmitter(module, module.unique_name(self.name), returns, params,
                                  list(self.signature.names), width=width)
         em.dsl_function = Built(self.name, returns, params)
+        em.body_code = getattr(self.body, "__code__", None)
         module.functions[key] = em.function
         with em:
-            from .control import Return, check_python_returns
+            from .control import check_python_returns, return_value
             check_python_returns(self.body)
             args = [PointerValue(p, a, em) if isinstance(p, PointerType) else value_class(p)._wrap(a, em)
                     for p, a in zip(params, em.params)]
             result = self.body(*args)
             if result is not None and not em.terminated():
                 with at_return_of(self.body):
-                    Return(result)
+                    return_value(result, from_user=False)
             for block in em.finish():
                 if returns is not None:
                     raise MissingReturnError(

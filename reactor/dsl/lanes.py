@@ -11,7 +11,8 @@ always derived from the state kept here, per function being built:
 * for the innermost loop that tracks lanes: the lanes still in it (``alive``:
   those whose condition held every iteration and that did not ``Break``) and
   those that skip the rest of this iteration (``skip``: ``Continue``);
-* the lanes that already executed ``Return`` (``returned``).
+* the lanes that already executed ``Return`` (``returned``), and those that
+  returned from an ``@inline`` helper being traced (``calls``: until it ends).
 
 A loop tracks lanes when its condition or bounds are per lane, or when its
 body calls Break, Continue or Return in a function of more than one lane (the
@@ -40,6 +41,18 @@ class LoopLanes:
 
 
 @dataclasses.dataclass
+class CallFrame:
+    """A call of an ``@inline`` helper: where its Returns go. ``depth`` is the number of loop
+    frames outside it (its Returns leave only the loops opened inside it)."""
+
+    depth: int
+    exit_block: object
+    returned: typing.Any = None  # Variable of Bool: lanes that returned from the helper
+    results: typing.Any = None  # Variables: one per component of its result
+    any_return: bool = False  # a Return was traced (per lane or on a uniform path)
+
+
+@dataclasses.dataclass
 class Frame:
     """A loop level: the per-lane conditions entered since the loop began, and the loop."""
 
@@ -58,6 +71,7 @@ class Lanes:
         self.frames = [Frame()]
         self.returned: typing.Any = None  # Variable: lanes done (Return), once a per-lane Return was traced
         self.results = None  # Variables: their results
+        self.calls: list[CallFrame] = []  # the @inline helpers being traced, innermost last
 
     @property
     def frame(self) -> Frame:
@@ -83,6 +97,9 @@ class Lanes:
             mask = both(mask, c)
         if self.returned is not None:
             mask = both(mask, ~self.returned.value)
+        for call in self.calls:
+            if call.returned is not None:
+                mask = both(mask, ~call.returned.value)
         return mask
 
     def mask_type(self) -> VType:

@@ -143,11 +143,16 @@ class Value:
     def __bool__(self):
         raise DSLTypeError(
             f"a {self.vtype.name} value has no Python truth value at build time: use "
-            f"If(...)/While(...) for run-time branches, Select(...) for lane-wise choice"
+            f"If(...)/While(...) for run-time branches, Select(...) for lane-wise choice (Python's "
+            f"max, min, abs, 'and', 'or' and 'if' need one: use routines.glsl's max/min/abs or reactor.Max ...)"
         )
 
     def __index__(self):
-        raise DSLTypeError(f"a {self.vtype.name} value cannot be used as a Python index or count")
+        raise DSLTypeError(f"a {self.vtype.name} value cannot be used as a Python index, count or number "
+                           f"(math.* and Python's built-ins take numbers: use routines.glsl's cos, floor ... "
+                           f"or reactor's Floor, Sqrt ... on DSL values)")
+
+    __float__ = __int__ = __complex__ = __index__  # math.cos(x) asks for one of these
 
     def set(self, value: Operand) -> "Value":
         raise DSLTypeError(f"a {self.vtype.name} value (an argument, constant or result) cannot be assigned "
@@ -251,7 +256,11 @@ def _lookup(table: dict, name: str, vt: VType, what: str):
     recipe = ops.lookup(table, name, vt)
     if recipe is None:
         kinds = sorted({k.name for k in KINDS.values() if k.category in table[name]})
-        raise DSLTypeError(f"{what} is not defined for {vt.name} (only for {', '.join(kinds)})")
+        hint = ""
+        if name in ("and", "or", "xor") and vt.kind.is_float:
+            hint = ("; in Python '&', '|' and '^' bind tighter than comparisons: write (a < b) & (c < d), "
+                    "with the parentheses")
+        raise DSLTypeError(f"{what} is not defined for {vt.name} (only for {', '.join(kinds)}){hint}")
     return recipe
 
 

@@ -45,15 +45,27 @@ def _scalar_kind(x) -> Kind | None:
     return None
 
 
-def _as_value(x, kind: Kind) -> Value:
+def _as_value(x, kind: Kind) -> typing.Any:
     """A component: a DSL value of ``kind`` (numbers become constants; other kinds convert)."""
     if isinstance(x, Value):
         return x if x.kind == kind else value_class(VType(kind, x.width))(x)
+    if not _em.building():  # a constant vector made at module level: numbers until used in a build
+        if isinstance(x, bool) or isinstance(x, (int, float)) and kind.category != "bool":
+            return (bool(x) if kind.category == "bool" else float(x) if kind.is_float else
+                    _integer_component(x, kind))
+        raise DSLTypeError(f"{x!r} cannot be a component of a {kind.name} vector made outside a build "
+                           f"(only numbers: a constant vector)")
     if isinstance(x, bool) or (kind.category != "bool" and isinstance(x, (int, float))):
         return value_class(VType(kind, 1))(x)
     if hasattr(x, "dtype") and getattr(x, "shape", None) == ():  # a NumPy scalar
         return _as_value(x.item(), kind)
     raise DSLTypeError(f"{x!r} cannot be a component of a {kind.name} vector")
+
+
+def _integer_component(x, kind: Kind) -> int:
+    if isinstance(x, float) and not x.is_integer():
+        raise DSLTypeError(f"{x!r} is not a whole number: it cannot be a {kind.name} component")
+    return int(x)
 
 
 def _swizzle(name: str) -> list[int] | None:
@@ -68,19 +80,27 @@ class Vec:
 
     kind: Kind
     size: int
-    _c: tuple[typing.Any, ...]
     dsl_composite = True  # DSL scalars defer their operators to it
-    __slots__ = ("_c", "_scope")
+    __slots__ = ("_comps", "_scope")
 
     def __init__(self, *args):
         if type(self) is Vec:
             raise DSLTypeError("Vec is abstract; use vec2, vec3, vec4, ivec3 ...")
         comps = self._components(args)
-        object.__setattr__(self, "_c", tuple(comps))
+        object.__setattr__(self, "_comps", tuple(comps))
         object.__setattr__(self, "_scope", _em.current().scope if _em.building() else None)
 
+    @property
+    def _c(self) -> tuple[typing.Any, ...]:
+        """The components as DSL values (a vector made outside any build, as GLSL's ``const vec3``
+        at module level, holds numbers until it is first used in one)."""
+        comps = self._comps
+        if _em.building() and not all(isinstance(c, Value) for c in comps):
+            return tuple(_as_value(c, self.kind) for c in comps)
+        return comps
+
     @classmethod
-    def _components(cls, args) -> list[Value]:
+    def _components(cls, args) -> list[typing.Any]:
         n, kind = cls.size, cls.kind
         if not args:
             raise DSLTypeError(f"{cls.__name__}() needs components: a scalar to fill it, or {n} values")
@@ -102,7 +122,7 @@ class Vec:
     def _of(cls, comps):
         """A vector of this class holding the values ``comps`` as they are."""
         v = object.__new__(cls)
-        object.__setattr__(v, "_c", tuple(comps))
+        object.__setattr__(v, "_comps", tuple(comps))
         object.__setattr__(v, "_scope", _em.current().scope if _em.building() else None)
         return v
 
@@ -145,7 +165,7 @@ class Vec:
         comps = list(self._c)
         for i, v in zip(lanes, values):
             comps[i] = _as_value(v, self.kind)
-        object.__setattr__(self, "_c", tuple(comps))
+        object.__setattr__(self, "_comps", tuple(comps))
 
     def set(self, value) -> "Vec":
         raise DSLTypeError(f"a {type(self).__name__} value cannot be assigned: declare "
@@ -161,7 +181,10 @@ class Vec:
                            f"If(...) for run-time branches")
 
     def __repr__(self) -> str:
-        return f"<{type(self).__name__} of {self._c[0].vtype.name}>"
+        first = self._comps[0]
+        if not isinstance(first, Value):
+            return f"{type(self).__name__}({', '.join(repr(c) for c in self._comps)})"
+        return f"<{type(self).__name__} of {first.vtype.name}>"
 
     __hash__ = object.__hash__
 
@@ -416,6 +439,25 @@ class _VecVariable:
     def value(self) -> Vec:
         """An immutable snapshot of the current value."""
         return vec_type(self.kind, self.size)._of([c.value for c in self._c])
+
+    # ``v += x`` stores into the variable (without these, Python would rebind ``v`` to a new value)
+    def __iadd__(self, other):
+        return self.set(self.value + other)
+
+    def __isub__(self, other):
+        return self.set(self.value - other)
+
+    def __imul__(self, other):
+        return self.set(self.value * other)
+
+    def __itruediv__(self, other):
+        return self.set(self.value / other)
+
+    def __imod__(self, other):
+        return self.set(self.value % other)
+
+    def __imatmul__(self, other):
+        return self.set(self.value @ other)
 
 
 _VAR_TYPES: dict[type, type[Vec]] = {}

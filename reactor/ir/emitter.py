@@ -194,6 +194,7 @@ class FunctionEmitter:
         self.dsl_function: typing.Any = None  # what is being built (set by its builder; see dsl/control.Return)
         self.unentered: list = []  # blocks (If, For, ...) created but not yet entered with `with`
         self.lanes: typing.Any = None  # the execution-mask state (reactor.dsl.lanes), made on first use
+        self.body_code: typing.Any = None  # the code object of the body being traced (Return's home)
 
     @property
     def name(self) -> str:

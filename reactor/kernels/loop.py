@@ -104,6 +104,7 @@ def emit_body(module, name: str, body, ins, outs, width: int):
     em = _em.FunctionEmitter(module, fname, ret, params, [f"x{k}" for k in range(len(params))],
                              width=width, internal=True)
     em.dsl_function = KernelBody(name, out_types, outs)
+    em.body_code = getattr(body, "__code__", None)  # Return belongs here (or in an @inline helper)
     with em:
         inputs = [o.wrap(em, em.params[at:at + count], width) for o, (at, count) in zip(ins, groups)]
         result = body(*inputs)
