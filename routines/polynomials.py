@@ -111,19 +111,14 @@ LOG2_RELAXED_REFERENCE = Polynomial(
 
 # -- trigonometric and hyperbolic (routines/trig.py) --------------------------------
 #
-# The remez command's expression language has no trigonometric or hyperbolic
-# functions, so these were fitted with the same fitter through its Python API,
-# with mpmath callables (50 digits), and rounded to float32 (``float32_strings``):
-#
-#     import mpmath as mp; from routines.remez import remez
-#     S = mp.sqrt
-#     odd = lambda f: ((lambda z: (f(S(z)) - S(z)) / (z * S(z))),   # (f(r) - r) / r^3, z = r^2
-#                      (lambda z: f(S(z)) / (z * S(z))))              # weight: relative error of f
-#     remez(*odd(mp.sin), 0, 0.64, 2)  ->  SIN_FULL     (odd() gives f and the weight)
-#     r.float32_strings[::-1]          ->  the coefficients, highest degree first
-#
-# ``_trig_fits()`` below lists each call; tests/routines/test_trig.py reruns them and
-# checks that they reproduce these digits. exp.* are fitted by the remez command itself.
+# Fitted by the remez command (its expressions have sin cos tan asin acos atan sinh cosh
+# tanh), at its default 50 digits, and rounded to float32: the command in each provenance
+# below prints these coefficients, highest degree first (the C function's literals, or
+# "coefficients" with --json). The odd functions f(r) = r + r^3 p(r^2) are fitted in
+# z = r^2: f(x) = (f(sqrt(x)) - sqrt(x))/x^1.5 with weight f(sqrt(x))/x^1.5, the relative
+# error of f(r); cos(r) = 1 + r^2 q(r^2): (cos(sqrt(x))-1)/x with weight 1/x, its absolute
+# error. ``_trig_fits()`` below gives the same fits as mpmath callables for the fitter's
+# Python API; tests/routines/test_trig.py reruns both forms and checks these digits.
 
 _ODD = "relative error of {f}(r) = r + r^3 p(r^2): fitted in z = r^2"
 
@@ -133,9 +128,9 @@ def _odd_poly(name, f, interval, coefficients, measured, note=""):
     return Polynomial(
         name=name, function=f"({f}(sqrt(x))-sqrt(x))/x^1.5", weight=f"{f}(sqrt(x))/x^1.5",
         interval=(lo, hi), coefficients=coefficients,
-        provenance=(f"our Remez fitter, Python API (the command's expressions have no {f}): "
-                    f"remez(*odd(mp.{f}), {lo}, {hi}, {len(coefficients) - 1}) with odd() as in "
-                    f"routines/polynomials.py; {_ODD.format(f=f)}" + (f"; {note}" if note else "")),
+        provenance=(f'our Remez fitter: python -m routines remez -d {len(coefficients) - 1} -r "{lo}:{hi}" '
+                    f'"({f}(sqrt(x))-sqrt(x))/x^1.5" "{f}(sqrt(x))/x^1.5"; {_ODD.format(f=f)}'
+                    + (f"; {note}" if note else "")),
         measured=measured)
 
 
@@ -151,16 +146,16 @@ SIN_RELAXED = _odd_poly(
 COS_FULL = Polynomial(
     name="cos.full", function="(cos(sqrt(x))-1)/x", weight="1/x", interval=("0", "0.64"),
     coefficients=("2.4375144e-05", "-0.0013886602", "0.04166662", "-0.5"),
-    provenance="our Remez fitter, Python API: remez(lambda z: (mp.cos(S(z)) - 1) / z, 0, 0.64, 3, "
-               "lambda z: 1 / z): absolute error of cos(r) = 1 + r^2 q(r^2) for |r| <= 0.8 "
+    provenance='our Remez fitter: python -m routines remez -d 3 -r "0:0.64" "(cos(sqrt(x))-1)/x" "1/x"; '
+               "absolute error of cos(r) = 1 + r^2 q(r^2) for |r| <= 0.8, fitted in z = r^2 "
                "(cos(0) = 1 exactly); weighted error 6.4e-11 (2^-33.9)",
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: cos max 1.49 ULP-32, 7.4e-8 absolute inside [-pi, pi] (max margin 1.5e-4 of 2^-11), 1.55 ULP-32 outside; tan (with sin.full) 3.07 / 3.53 ULP-32 (margin 1.4e-4); `python -m routines accuracy cos --precision full --fma on --exhaustive`")
 
 COS_RELAXED = Polynomial(
     name="cos.relaxed", function="(cos(sqrt(x))-1)/x", weight="1/x", interval=("0", "0.64"),
     coefficients=("0.04044532", "-0.49975935"),
-    provenance="our Remez fitter, Python API: remez(lambda z: (mp.cos(S(z)) - 1) / z, 0, 0.64, 1, "
-               "lambda z: 1 / z): cos of degree 4; weighted error 1.4e-5 (2^-16.2)",
+    provenance='our Remez fitter: python -m routines remez -d 1 -r "0:0.64" "(cos(sqrt(x))-1)/x" "1/x"; '
+               "cos of degree 4; weighted error 1.4e-5 (2^-16.2)",
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: cos max 0.0282 ULP-16, 1.38e-5 absolute (max margin 1.8e-3 of 2^-7); tan 0.0269 ULP-16 (margin 6.6e-4); `python -m routines accuracy cos --precision relaxed --fma on --exhaustive`")
 
 ATAN_FULL = _odd_poly(
@@ -217,7 +212,8 @@ EXP_RELAXED = Polynomial(
     measured="sampled: cosh max 0.0216 ULP-16, max margin 0.021; `python -m routines accuracy cosh --precision relaxed --fma on`")
 
 def _trig_fits():
-    """name -> (f, weight, a, b, degree) of the Python-API fits above (mpmath callables of z)."""
+    """name -> (f, weight, a, b, degree): the fits above as mpmath callables of z, for the
+    fitter's Python API (the same functions as the commands' expressions)."""
     import mpmath as mp
 
     S = mp.sqrt

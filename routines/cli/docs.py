@@ -9,9 +9,10 @@ JSON files that the measuring commands wrote into DIR (default ``out/``):
     python -m routines bench --json out/bench.json
 
 A variant without an exhaustive measurement is measured on the quick sample
-now, and its row says so; a function that ``bench`` does not time (the
-trigonometric and hyperbolic ones) is timed now against its NumPy float32
-counterpart, the same way (64K elements, interleaved rounds, best round).
+now, and its row says so; a function missing from ``out/bench.json`` (or
+without that file) is timed now by ``bench``'s own method (64K elements,
+interleaved rounds, best round) against NumPy and the libmvec and SLEEF peers
+that are installed.
 ``--functions`` writes only the pages of the functions named.
 """
 from __future__ import annotations
@@ -21,7 +22,6 @@ import json
 import os
 import re
 
-import numpy as np
 
 from .. import NAMES, exponential, logarithm, polynomials, power, reciprocal, specials, trig
 from ..base import PRECISIONS
@@ -43,11 +43,6 @@ POLYS = {"exp2": ("exp2.full", "exp2.relaxed"), "exp": ("exp2.full", "exp2.relax
          "sinh": ("sinh.full", "sinh.relaxed", "exp.full", "exp.relaxed"),
          "cosh": ("exp.full", "exp.relaxed"),
          "tanh": ("tanh.full", "tanh.relaxed", "exp.full", "exp.relaxed")}
-#: NumPy float32 counterparts and typical arguments of the functions ``bench`` does not time.
-NUMPY = {"sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin, "acos": np.arccos,
-         "atan": np.arctan, "atan2": np.arctan2, "sinh": np.sinh, "cosh": np.cosh, "tanh": np.tanh}
-
-
 def _algorithm(name: str) -> str:
     """The implementing module's docstring; for routines/trig.py its introduction and the
     section of the function (sections are titled by the functions they cover)."""
@@ -60,30 +55,11 @@ def _algorithm(name: str) -> str:
     return "\n\n".join([intro.strip()] + [sec.strip() for sec in mine])
 
 
-def _trig_inputs(name: str, n: int):
-    rng = np.random.default_rng(1)
-    if name in ("asin", "acos"):
-        return (rng.uniform(-1, 1, n).astype(np.float32),)
-    x = rng.uniform(-10, 10, n).astype(np.float32)
-    return (x, rng.uniform(-10, 10, n).astype(np.float32)) if name == "atan2" else (x,)
-
-
-def time_against_numpy(name: str, size: int = 65536, rounds: int = 7) -> list[dict]:
-    """Rows like ``bench``'s for a function it does not time: every variant and NumPy's float32
-    function on the same arguments (asin/acos in [-1, 1], the others in [-10, 10])."""
-    from .. import jit
-    from .bench import time_all
-    args = _trig_inputs(name, size)
-    out = np.empty(size, np.float32)
-    fn = NUMPY[name]
-    cands = {"numpy": (lambda *a, out: fn(*a, out=out), args, out)}
-    for precision in PRECISIONS:
-        for fma in (True, False):
-            cands[f"{precision} fma={'on' if fma else 'off'}"] = (jit(name, precision, fma), args, out)
-    with np.errstate(all="ignore"):
-        best = time_all(cands, size, rounds)
-    return [{"function": name, "variant": k, "ns_per_element": ns, "speedup_vs_numpy": best["numpy"] / ns}
-            for k, ns in best.items()]
+def time_now(name: str, size: int = 65536, rounds: int = 7) -> list[dict]:
+    """``bench``'s rows for one function, measured now: every variant, NumPy's float32
+    function and the installed libmvec/SLEEF peers on the same arguments."""
+    from .bench import run
+    return run([name], size, rounds)
 
 
 def accuracy_path(root: str, name: str, precision: str, fma: bool) -> str:
@@ -135,21 +111,22 @@ def _at(case, name: str) -> str:
 def _speed_rows(name: str, root: str):
     path = os.path.join(root, "bench.json")
     header = ["| variant | ns/element | vs NumPy |", "|---|---|---|"]
-    data: dict
-    if name in NUMPY:
-        data = {"size": 65536, "rows": time_against_numpy(name)}
-        how = (f"by `python -m routines docs` (`routines.cli.docs.time_against_numpy`, the method of "
-               f"`python -m routines bench`) against NumPy's float32 `np.{NUMPY[name].__name__}`, "
-               f"on the machine that wrote this page")
-    elif not os.path.exists(path):
-        return ["(no speed measurement yet: run `python -m routines bench --json out/bench.json`)"]
-    else:
+    data: dict = {}
+    if os.path.exists(path):
         with open(path) as f:
             data = json.load(f)
-        how = "by `python -m routines bench --json out/bench.json`"
+    how = "by `python -m routines bench --json out/bench.json`"
+    if not any(r["function"] == name for r in data.get("rows", [])):
+        data = {"size": 65536, "rows": time_now(name)}
+        how = ("by `python -m routines docs` (`routines.cli.docs.time_now`: `python -m routines bench`'s "
+               "method and peers) on the machine that wrote this page")
     rows = list(header)
     for r in data["rows"]:
-        if r["function"] == name:
+        if r["function"] != name:
+            continue
+        if r.get("absent"):
+            rows.append(f"| {r['variant']} | absent: {r['absent']} | |")
+        else:
             rows.append(f"| {r['variant']} | {r['ns_per_element']:.4f} | {r['speedup_vs_numpy']:.2f}x |")
     return rows + [f"\nMeasured at {data['size']} float32 elements per call {how} "
                    f"(best of interleaved rounds)."]

@@ -1,7 +1,10 @@
-"""``python -m routines report [--quick] [--exhaustive] [--out DIR] ...``
+"""``python -m routines report [--quick] [--exhaustive] [--functions F ...|trig|all] [--out DIR] ...``
 
 The main job: builds every variant (function x precision x FMA x SIMD width
-4/8/16) and the peers (NumPy, glibc libmvec, SLEEF, numba where installed),
+4/8/16) of the functions (default: exp2 log2 pow exp log rcp rsqrt sqrt;
+``--functions trig`` for sin cos tan asin acos atan atan2 sinh cosh tanh,
+``--functions all`` for both, or any list of names) and the peers (NumPy,
+glibc libmvec, SLEEF, numba where installed),
 measures their accuracy (the lab's sample by default, every input with
 ``--exhaustive``) and their speed (L1, L2 and DRAM sizes, one thread, and two
 threads at the DRAM size; the clock calibrated in the same run), models
@@ -20,19 +23,31 @@ import sys
 
 from ..perf import chart, report, timing
 from . import add_quiet, parser as command_parser, positive_int
+from .bench import expand
+
+#: Names that stand for several functions in ``--functions``.
+GROUPS = {"trig": report.TRIG, "all": report.FUNCTIONS}
+
+
+def _expand(names) -> list[str]:
+    """``--functions`` with the groups replaced by their functions, in order, each once."""
+    return expand(names, GROUPS)
 
 
 def main(argv: list[str]) -> int:
-    parser = command_parser("report", __doc__, ("--quick", "", "--exhaustive --out out/full",
-                                                "--functions exp2 log2 --sizes L1 L2 --rounds 9 --quiet"))
+    parser = command_parser("report", __doc__, ("--quick", "", "--functions all", "--exhaustive --out out/full",
+                                                "--functions exp2 log2 --sizes L1 L2 --rounds 9 --quiet",
+                                                "--functions sin atan2 tanh --out out/trig"))
     parser.add_argument("--out", default="out", metavar="DIR", help="output directory (default out/)")
     parser.add_argument("--quick", action="store_true",
                         help="small sample (2^14), L2 size only, fewer rounds (under a minute)")
     parser.add_argument("--exhaustive", action="store_true",
-                        help="accuracy over all 2^32 inputs (pow: the stratified pair sweep); ~40 s per variant")
+                        help="accuracy over all 2^32 inputs (pow, atan2: the stratified pair sweep); ~40 s per variant")
     parser.add_argument("--exhaustive-peers", action="store_true", help="the same for the peers")
-    parser.add_argument("--functions", nargs="+", default=list(report.FUNCTIONS), choices=report.FUNCTIONS,
-                        metavar="F", help=f"default all: {' '.join(report.FUNCTIONS)}")
+    parser.add_argument("--functions", nargs="+", default=list(report.DEFAULT_FUNCTIONS),
+                        choices=report.FUNCTIONS + tuple(GROUPS), metavar="F",
+                        help=f"any of {' '.join(report.FUNCTIONS)}; trig: {' '.join(report.TRIG)}; "
+                             f"all: every one (default: {' '.join(report.DEFAULT_FUNCTIONS)})")
     parser.add_argument("--sizes", nargs="+", choices=list(timing.SIZES), metavar="SIZE",
                         help=f"{' '.join(timing.SIZES)}; default: all (quick: L2)")
     parser.add_argument("--rounds", type=positive_int, metavar="N",
@@ -42,10 +57,11 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--no-threads", action="store_true", help="skip the two-thread timings")
     add_quiet(parser, "no progress bars (they are shown only on a terminal anyway)")
     args = parser.parse_args(argv)
+    functions = _expand(args.functions)
     sizes = args.sizes or (["L2"] if args.quick else list(timing.SIZES))
     rounds = args.rounds or (7 if args.quick else None)
     samples = args.samples or (2 ** 14 if args.quick else 2 ** 20)
-    result = report.run(args.functions, sizes={s: timing.SIZES[s] for s in sizes},
+    result = report.run(functions, sizes={s: timing.SIZES[s] for s in sizes},
                         rounds={s: rounds for s in sizes} if rounds else None, samples=samples,
                         exhaustive=args.exhaustive, exhaustive_peers=args.exhaustive_peers,
                         threads2=not args.no_threads, progress=not args.quiet)

@@ -16,6 +16,12 @@ tolerance, so 1 is the highp limit). Lower-left is better. On every panel:
   exchange rate between cycles and orders of magnitude of error.
   Points exactly on a hull segment (collinear) are not hull vertices;
 * FMA-off variants are drawn with a light fill, marker size is the SIMD width;
+* a point far to the right of the others (more than ``FAR`` times the median
+  cost of its panel, e.g. numba's scalar loops at 30-90 cycles/element beside
+  vector code at 1-3) would squeeze the rest into the left edge: the axis ends
+  after the other points (:func:`x_limit`) and the far point is drawn at the
+  right edge as a ``>`` with its label and cost; the frontier and hull still
+  include it;
 * **non-conforming** points (ours: against their own precision's tolerance,
   special values included; peers: meeting neither the full nor the relaxed
   tolerance) are drawn hollow with a red cross.
@@ -90,6 +96,19 @@ def frontier(points: list[dict], log_y: bool = True) -> tuple[list[int], list[in
     return front, lower_hull(xy, front)
 
 
+FAR = 6.0  # a point beyond FAR x the panel's median cost is drawn at the right edge
+
+
+def x_limit(xs: Sequence[float]) -> float | None:
+    """The right end of a panel's cost axis: None (matplotlib's own) unless some cost is
+    more than ``FAR`` times the median, then 1.1 x the largest of the others."""
+    xs = sorted(x for x in xs if math.isfinite(x))
+    if len(xs) < 3 or xs[len(xs) // 2] <= 0:
+        return None
+    near = [x for x in xs if x <= FAR * xs[len(xs) // 2]]
+    return 1.1 * near[-1] if len(near) < len(xs) else None
+
+
 STYLE = {  # family -> (marker, colour)
     "ours full": ("o", "#1f77b4"), "ours relaxed": ("^", "#ff7f0e"), "numpy": ("s", "#2ca02c"),
     "libmvec": ("D", "#9467bd"), "sleef": ("P", "#8c564b"), "numba": ("X", "#e377c2"),
@@ -123,9 +142,15 @@ def draw(panels: dict[str, list[dict]], path_base: str, *, error: str = "ulp", t
         pts = [p for p in panels[func] if p["x"] is not None and p["y"] is not None
                and math.isfinite(p["x"]) and not math.isnan(p["y"])]
         front, hull = frontier(pts, log_y)
+        xlim = x_limit([p["x"] for p in pts])
         for p in pts:
             marker, colour = STYLE.get(p["family"], ("o", "gray"))
             y = max(p["y"], FLOOR) if log_y else p["y"]
+            if xlim is not None and p["x"] > xlim:  # far right: at the edge, with its cost
+                ax.scatter([xlim], [y], marker=">", s=50, color=colour, zorder=3, clip_on=False)
+                ax.annotate(f"{p['label']} {p['x']:.0f} c/e", (xlim, y), textcoords="offset points",
+                            xytext=(-4, 5), ha="right", fontsize=6.5, color=colour, zorder=5)
+                continue
             hollow = not p.get("conforming", True)
             face = "none" if hollow else to_rgba(colour, 0.3 if p.get("fma") is False else 1.0)
             ax.scatter([p["x"]], [y], marker=marker, s=SIZE.get(p.get("width"), 50),
@@ -139,6 +164,8 @@ def draw(panels: dict[str, list[dict]], path_base: str, *, error: str = "ulp", t
             ax.step(fx, fy, where="post", ls="--", color="gray", lw=1, zorder=2)
             for i in front:
                 p = pts[i]
+                if xlim is not None and p["x"] > xlim:
+                    continue  # labelled at the edge
                 ax.annotate(p["label"], (p["x"], max(p["y"], FLOOR) if log_y else p["y"]),
                             textcoords="offset points", xytext=(4, 4), fontsize=6.5, zorder=5)
         if len(hull) >= 1:
@@ -155,7 +182,7 @@ def draw(panels: dict[str, list[dict]], path_base: str, *, error: str = "ulp", t
         ax.set_xlabel("cycles / element (L2-resident, 1 thread)")
         ax.set_ylabel(ylabel)
         ax.grid(True, which="major", alpha=0.3)
-        ax.set_xlim(left=0)
+        ax.set_xlim(left=0, right=xlim)
     legend = [Line2D([], [], marker=m, color=c, ls="", label=f) for f, (m, c) in STYLE.items()]
     legend += [Line2D([], [], marker="o", color="#1f77b4", markerfacecolor=to_rgba("#1f77b4", 0.3),
                       ls="", label="FMA off (light)"),

@@ -1,13 +1,13 @@
 """A dataflow cost model of a kernel's vector loop (shared/refs/003, "dataflow graphs").
 
-The loop body of a kernel (block ``vec.body`` of its optimized IR) is a
-dataflow graph: each instruction a node, each operand an edge. Iterations are
-independent, so an out-of-order core overlaps them and the steady state is
-bounded by *throughput*: for every class of operation, the number of such
-operations per vector divided by how many the machine can start per cycle;
-and by the issue width over all operations. The *critical path* (the longest
-latency chain through one iteration) tells how many iterations must be in
-flight to reach that bound.
+The loop body of a kernel (from block ``vec.body`` of its optimized IR back
+to it: :func:`iteration`) is a dataflow graph: each instruction a node, each
+operand an edge. Iterations are independent, so an out-of-order core overlaps
+them and the steady state is bounded by *throughput*: for every class of
+operation, the number of such operations per vector divided by how many the
+machine can start per cycle; and by the issue width over all operations.
+The *critical path* (the longest latency chain through one iteration) tells
+how many iterations must be in flight to reach that bound.
 
 The machine is described by a small table (``ZEN4``; numbers from AMD's Zen 4
 optimization guide and uops.info, rounded): each operation class has a latency
@@ -80,6 +80,7 @@ _INTRINSIC_CLASSES = [
     (r"llvm\.(smin|smax|umin|umax)", "int"),  # VPMIN/VPMAX: integer ALU, any pipe
     (r"llvm\.(floor|ceil|trunc|roundeven|rint)", "round"),
     (r"x86\.avx512\.mask\.(reduce|getexp|getmant|rndscale)", "round"),
+    (r"x86\.avx512\.mask\.scalef", "fma"),  # VSCALEFPS (ScaleF): FP0/FP1, latency ~4, like an FMA
     (r"rsqrt", "estimate_rsqrt"), (r"rcp", "estimate"), (r"llvm\.sqrt", "sqrt"), (r"llvm\.fabs|llvm\.copysign", "int"),
     (r"llvm\.fpto[su]i\.sat", "convert"), (r"llvm\.masked\.load", "load"), (r"llvm\.masked\.store", "store"),
     (r"llvm\.x86\.sse\.(st|ld)mxcsr", None), (r"llvm\.vector\.reduce", "shuffle"),
@@ -140,6 +141,7 @@ class Prediction:
     critical_path: float
     throughput_bound: float  # cycles per vector
     bottleneck: str
+    skipped: list = dataclasses.field(default_factory=list)  # conditional blocks left out
 
     @property
     def cycles_per_element(self) -> float:
@@ -149,19 +151,21 @@ class Prediction:
         ops = ", ".join(f"{n} {c}" for c, n in sorted(self.counts.items(), key=lambda kv: -kv[1]))
         return (f"{sum(self.counts.values())} ops/vector ({ops}); throughput bound "
                 f"{self.throughput_bound:.2f} cycles/vector, limited by {self.bottleneck}; "
-                f"critical path {self.critical_path:.0f} cycles")
+                f"critical path {self.critical_path:.0f} cycles"
+                + (f"; not modelled (conditional): {', '.join(self.skipped)}" if self.skipped else ""))
 
 
 def _key(value) -> int:
     return ctypes.cast(value._ptr, ctypes.c_void_p).value
 
 
-def _minmax_selects(block) -> dict[int, int]:
+def _minmax_selects(instructions) -> dict[int, int]:
     """select(fcmp(a, b), a, b) or select(fcmp(a, b), b, a) is one x86 MIN/MAX:
-    maps each such select to its compare."""
-    defs = {_key(i): i for i in block.instructions}
+    maps each such select to its compare (``instructions``: a block or a list)."""
+    instructions = list(getattr(instructions, "instructions", instructions))
+    defs = {_key(i): i for i in instructions}
     out = {}
-    for instr in block.instructions:
+    for instr in instructions:
         if instr.opcode != "select":
             continue
         cond, a, b = list(instr.operands)
@@ -169,6 +173,68 @@ def _minmax_selects(block) -> dict[int, int]:
         if cmp is not None and cmp.opcode == "fcmp" and {_key(o) for o in cmp.operands} == {_key(a), _key(b)}:
             out[_key(instr)] = _key(cmp)
     return out
+
+
+def _successors(block) -> list[str]:
+    term = list(block.instructions)[-1]
+    return [o.name for o in term.operands if str(o.type) == "label"]
+
+
+def iteration(fn, start: str = "vec.body") -> tuple[list, list[str]]:
+    """(instructions, skipped blocks) of one iteration of the loop at block ``start``.
+
+    A kernel whose body has no ``If`` is one block, ``start``, branching back to
+    itself. With ``If`` blocks the iteration runs from ``start`` through
+    conditional blocks to a latch that branches back to ``start``; the model
+    takes the blocks that *every* iteration runs (those whose removal would cut
+    every path back to ``start``), in the function's order, and leaves out the
+    conditional ones -- e.g. the trigonometric routines' ``If(Any(|x| >
+    limit))`` large-argument reduction, which typical arguments never enter
+    (a phi's operand from a skipped block counts as ready)."""
+    blocks = {b.name: b for b in fn.blocks}
+    if start not in blocks:
+        raise ValueError(f"{fn.name} has no vector loop (block {start})")
+    succ = {name: _successors(b) for name, b in blocks.items()}
+
+    def back_to_start(avoid: str | None) -> bool:
+        seen, todo = set(), [n for n in succ[start] if n != avoid]
+        while todo:
+            n = todo.pop()
+            if n == start:
+                return True
+            if n in seen:
+                continue
+            seen.add(n)
+            todo += [m for m in succ[n] if m != avoid]
+        return False
+
+    inside, todo = set(), list(succ[start])  # blocks reachable from start before returning to it
+    while todo:
+        n = todo.pop()
+        if n == start or n in inside:
+            continue
+        inside.add(n)
+        todo += succ[n]
+    if not back_to_start(None):
+        raise ValueError(f"{fn.name}: block {start} is not a loop")
+    on_path = {n for n in inside if _reaches(succ, n, start)}
+    every = {start} | {n for n in on_path if not back_to_start(n)}
+    instructions = [i for b in fn.blocks if b.name in every for i in b.instructions]
+    skipped = [b.name for b in fn.blocks if b.name in on_path - every]
+    return instructions, skipped
+
+
+def _reaches(succ, a: str, b: str) -> bool:
+    seen, todo = set(), [a]
+    while todo:
+        n = todo.pop()
+        if n == b:
+            return True
+        if n in seen:
+            continue
+        seen.add(n)
+        todo += succ[n]
+    return False
 
 
 def _pipe_bounds(slots, machine) -> dict[str, float]:
@@ -188,18 +254,17 @@ def _pipe_bounds(slots, machine) -> dict[str, float]:
 
 
 def predict(optimized_ir: str, function: str, width: int, machine=ZEN4, issue_width=ISSUE_WIDTH) -> Prediction:
-    """Model the ``vec.body`` block of ``function`` in ``optimized_ir``."""
+    """Model one iteration of the vector loop (:func:`iteration`: from block ``vec.body``,
+    the blocks every iteration runs) of ``function`` in ``optimized_ir``."""
     mod = llvm.parse_assembly(optimized_ir)
     fn = mod.get_function(function)
-    body = next((b for b in fn.blocks if b.name == "vec.body"), None)
-    if body is None:
-        raise ValueError(f"{function} has no vector loop (block vec.body)")
+    body, skipped = iteration(fn)
     counts, slots = collections.Counter(), collections.Counter()
     finish: dict[int, float] = {}
     critical = 0.0
     minmax = _minmax_selects(body)
     folded = set(minmax.values())
-    for instr in body.instructions:
+    for instr in body:
         cls = classify(instr)
         if _key(instr) in folded:
             cls = None  # the compare of a min/max: part of one VMINPS/VMAXPS
@@ -216,7 +281,7 @@ def predict(optimized_ir: str, function: str, width: int, machine=ZEN4, issue_wi
     bounds = {"issue width": fp_slots / issue_width}  # first: named so on a tie
     bounds.update(_pipe_bounds(slots, machine))
     bottleneck = max(bounds, key=bounds.get)
-    return Prediction(width, dict(counts), dict(slots), critical, bounds[bottleneck], bottleneck)
+    return Prediction(width, dict(counts), dict(slots), critical, bounds[bottleneck], bottleneck, skipped)
 
 
 def predict_kernel(ufunc, machine=ZEN4) -> Prediction:

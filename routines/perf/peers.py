@@ -1,16 +1,20 @@
 """The peers our routines are compared with, and their accuracy.
 
-* **NumPy** float32 ufuncs (``np.exp2``, ``np.log2``, ``np.power``, ...),
-  which dispatch to the widest SIMD loops the CPU supports (AVX-512 where
-  present).
+* **NumPy** float32 ufuncs (``np.exp2``, ``np.log2``, ``np.power``, ``np.sin``,
+  ``np.arctan2``, ...), which dispatch to the widest SIMD loops the CPU
+  supports (AVX-512 where present; NumPy has its own float32 sin/cos, the
+  others go to its SIMD or libm loops).
 * **glibc libmvec** (``libmvec.so.1``): the x86-64 vector-function ABI
   entry points for 16 float32 lanes (``_ZGVeN16v_exp2f``, ``_ZGVeN16v_log2f``,
-  ``_ZGVeN16vv_powf``, ...), called from a reactor kernel of width 16 through
+  ``_ZGVeN16vv_powf``, ``_ZGVeN16v_sinf``, ``_ZGVeN16vv_atan2f``, ...: sin,
+  cos, exp, log and pow since glibc 2.22, the rest since 2.35; an older
+  glibc's missing symbols make those peers absent), called from a reactor kernel of width 16 through
   :class:`reactor.External`, so they run in exactly the loop our kernels run
   in (contiguous loads, one call per 16 elements, masked tail).
 * **SLEEF** (Debian's ``libsleef3``, ``libsleef.so.3``): ``Sleef_exp2f16_u10``
   / ``_u35``, ``Sleef_log2f16_u10`` / ``_u35``, ``Sleef_powf16_u10``,
-  ``Sleef_fastpowf16_u3500``, ... the same way. The suffix is SLEEF's error
+  ``Sleef_fastpowf16_u3500``, ``Sleef_sinf16_u10`` / ``_u35``,
+  ``Sleef_fastsinf16_u3500``, ``Sleef_atan2f16_u10``, ... the same way. The suffix is SLEEF's error
   bound: u10 = 1.0 ULP, u35 = 3.5 ULP, u3500 = 350 ULP, u05 = 0.5001 ULP.
   Where the library is not installed (``apt-get install libsleef3``) these
   peers are reported **absent**, not failed.
@@ -42,11 +46,17 @@ _NUMPY = {
     "exp2": (np.exp2, "np.exp2"), "exp": (np.exp, "np.exp"), "log2": (np.log2, "np.log2"),
     "log": (np.log, "np.log"), "pow": (np.power, "np.power"), "sqrt": (np.sqrt, "np.sqrt"),
     "rcp": (np.reciprocal, "np.reciprocal"),
+    "sin": (np.sin, "np.sin"), "cos": (np.cos, "np.cos"), "tan": (np.tan, "np.tan"),
+    "asin": (np.arcsin, "np.arcsin"), "acos": (np.arccos, "np.arccos"), "atan": (np.arctan, "np.arctan"),
+    "atan2": (np.arctan2, "np.arctan2"), "sinh": (np.sinh, "np.sinh"), "cosh": (np.cosh, "np.cosh"),
+    "tanh": (np.tanh, "np.tanh"),
 }
+#: The trigonometric and hyperbolic functions (routines/trig.py); atan2 takes (y, x) everywhere.
+TRIG = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh")
 _MVEC = {
     "exp2": "_ZGVeN16v_exp2f", "log2": "_ZGVeN16v_log2f", "pow": "_ZGVeN16vv_powf",
     "exp": "_ZGVeN16v_expf", "log": "_ZGVeN16v_logf",
-}
+} | {f: f"_ZGVeN16v{'v' if f == 'atan2' else ''}_{f}f" for f in TRIG}
 _SLEEF = {
     "exp2": ["Sleef_exp2f16_u10", "Sleef_exp2f16_u35"],
     "log2": ["Sleef_log2f16_u10", "Sleef_log2f16_u35"],
@@ -54,9 +64,10 @@ _SLEEF = {
     "exp": ["Sleef_expf16_u10"],
     "log": ["Sleef_logf16_u10", "Sleef_logf16_u35"],
     "sqrt": ["Sleef_sqrtf16_u05", "Sleef_sqrtf16_u35"],
-}
+} | {f: [f"Sleef_{f}f16_u10", f"Sleef_{f}f16_u35"] + ([f"Sleef_fast{f}f16_u3500"] if f in ("sin", "cos") else [])
+     for f in TRIG}
 _SLEEF_CLAIM = {"u05": "0.5001 ULP", "u10": "1.0 ULP", "u35": "3.5 ULP", "u3500": "350 ULP"}
-ARITY = {"pow": 2}
+ARITY = {"pow": 2, "atan2": 2}
 
 
 @dataclasses.dataclass
@@ -149,35 +160,52 @@ def _numba_ufunc(func: str):
         "sqrt": (sig1, lambda x: np.sqrt(x)), "rcp": (sig1, lambda x: np.float32(1.0) / x),
         "rsqrt": (sig1, lambda x: np.float32(1.0) / np.sqrt(x)),
         "pow": (sig2, lambda x, y: x ** y),
+        "sin": (sig1, lambda x: np.sin(x)), "cos": (sig1, lambda x: np.cos(x)),
+        "tan": (sig1, lambda x: np.tan(x)), "asin": (sig1, lambda x: np.arcsin(x)),
+        "acos": (sig1, lambda x: np.arccos(x)), "atan": (sig1, lambda x: np.arctan(x)),
+        "atan2": (sig2, lambda y, x: np.arctan2(y, x)), "sinh": (sig1, lambda x: np.sinh(x)),
+        "cosh": (sig1, lambda x: np.cosh(x)), "tanh": (sig1, lambda x: np.tanh(x)),
     }
     sig, fn = bodies[func]
     return numba.vectorize(sig, nopython=True)(fn)
 
 
-def peers(functions, libraries: dict | None = None) -> list[Peer]:
-    """Every peer of ``functions``, present or absent. ``libraries`` overrides
-    library names (``{"sleef": "libnothere.so"}`` in the tests)."""
+FAMILIES = ("numpy", "libmvec", "sleef", "numba")
+
+
+def peers(functions, libraries: dict | None = None, families=FAMILIES) -> list[Peer]:
+    """Every peer of ``functions`` in ``families``, present or absent. ``libraries``
+    overrides library names (``{"sleef": "libnothere.so"}`` in the tests)."""
     libs = {"libmvec": LIBMVEC, "sleef": LIBSLEEF} | (libraries or {})
     out = []
     for func in functions:
-        arity = ARITY.get(func, 1)
-        if func in _NUMPY:
-            ufunc, label = _NUMPY[func]
-            out.append(Peer(f"numpy {func}", func, "numpy", label, "not documented", ufunc))
-        elif func == "rsqrt":
-            out.append(Peer("numpy rsqrt", func, "numpy", "1 / np.sqrt (two passes)",
-                            "0.5 + 0.5 ULP (two rounded operations)", _rsqrt_numpy))
-        if func in _MVEC:
-            sym = _MVEC[func]
-            k = external_kernel(sym, libs["libmvec"], arity)
-            out.append(Peer(f"libmvec {func}", func, "libmvec", sym, "glibc: vector variants <= 4 ULP",
-                            k, "" if k is not None else missing(sym, libs["libmvec"])))
-        for sym in _SLEEF.get(func, ()):
-            suffix = sym.rsplit("_", 1)[1]
-            k = external_kernel(sym, libs["sleef"], arity)
-            name = "fastpow" if "fastpow" in sym else func
-            out.append(Peer(f"sleef {name} {suffix}", func, "sleef", sym, _SLEEF_CLAIM.get(suffix, suffix),
-                            k, "" if k is not None else missing(sym, libs["sleef"])))
+        out += _peers_of(func, libs, families)
+    return out
+
+
+def _peers_of(func, libs, families) -> list[Peer]:
+    out = []
+    arity = ARITY.get(func, 1)
+    if "numpy" not in families:
+        pass
+    elif func in _NUMPY:
+        ufunc, label = _NUMPY[func]
+        out.append(Peer(f"numpy {func}", func, "numpy", label, "not documented", ufunc))
+    elif func == "rsqrt":
+        out.append(Peer("numpy rsqrt", func, "numpy", "1 / np.sqrt (two passes)",
+                        "0.5 + 0.5 ULP (two rounded operations)", _rsqrt_numpy))
+    if func in _MVEC and "libmvec" in families:
+        sym = _MVEC[func]
+        k = external_kernel(sym, libs["libmvec"], arity)
+        out.append(Peer(f"libmvec {func}", func, "libmvec", sym, "glibc: vector variants <= 4 ULP",
+                        k, "" if k is not None else missing(sym, libs["libmvec"])))
+    for sym in (_SLEEF.get(func, ()) if "sleef" in families else ()):
+        suffix = sym.rsplit("_", 1)[1]
+        k = external_kernel(sym, libs["sleef"], arity)
+        name = f"fast{func}" if "_fast" in sym else func
+        out.append(Peer(f"sleef {name} {suffix}", func, "sleef", sym, _SLEEF_CLAIM.get(suffix, suffix),
+                        k, "" if k is not None else missing(sym, libs["sleef"])))
+    if "numba" in families:
         try:
             fn, reason = _numba_ufunc(func), ""
         except ImportError:

@@ -61,14 +61,21 @@ CALL_SECONDS = 5e-4
 
 def inputs(func: str, n: int, seed: int = 1) -> tuple[np.ndarray, ...]:
     """Typical operands: exp/exp2 in [-10, 10]; log/log2/rcp/rsqrt/sqrt in
-    [1e-3, 100]; pow: x in [1e-3, 100], y in [-10, 10] (results within float32)."""
+    [1e-3, 100]; pow: x in [1e-3, 100], y in [-10, 10] (results within float32);
+    sin/cos/tan/atan/sinh/cosh/tanh in [-10, 10] (a few periods: the Cody-Waite
+    path, as a shader's angles); asin/acos in [-1, 1]; atan2(y, x): y and x in
+    [-10, 10] (all four quadrants)."""
     rng = np.random.default_rng(seed)
     signed = rng.uniform(-10, 10, n).astype(np.float32)
     positive = rng.uniform(1e-3, 100, n).astype(np.float32)
-    if func in ("exp", "exp2"):
+    if func in ("exp", "exp2", "sin", "cos", "tan", "atan", "sinh", "cosh", "tanh"):
         return (signed,)
     if func == "pow":
         return (positive, signed)
+    if func in ("asin", "acos"):
+        return (rng.uniform(-1, 1, n).astype(np.float32),)
+    if func == "atan2":
+        return (signed, rng.uniform(-10, 10, n).astype(np.float32))
     return (positive,)
 
 

@@ -52,8 +52,10 @@ def _parser() -> argparse.ArgumentParser:
         "minimising max |p(x) - f(x)| / |g(x)| (g is a tolerance, as in LolRemez).",
         examples=['python -m routines remez -d 4 -r "0:1" "(2^x-x-1)/x" "1/x"',
                   'python -m routines remez -d 2 -r "-0.5:0.5" "exp(x)" --json',
-                  'python -m routines remez -d 5 -r "0:1" "log2(1+x)/x" --dps 60'],
-        epilog="Expressions use x, numbers, + - * / ^ ( ) and exp exp2 log log2 sqrt erf abs;\n"
+                  'python -m routines remez -d 5 -r "0:1" "log2(1+x)/x" --dps 60',
+                  'python -m routines remez -d 2 -r "0:0.64" "(sin(sqrt(x))-sqrt(x))/x^1.5" "sin(sqrt(x))/x^1.5"'],
+        epilog="Expressions use x, numbers, + - * / ^ ( ) and exp exp2 log log2 sqrt erf abs\n"
+        "sin cos tan asin acos atan sinh cosh tanh (radians);\n"
         "put -- before an expression that starts with '-'.",
     )
     p.add_argument("-d", "--degree", type=_checked(positive_int, "degree"), default=4,

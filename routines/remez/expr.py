@@ -9,13 +9,17 @@ Grammar (LolRemez-compatible subset)::
     primary := NUMBER | 'x' | FUNC '(' expr ')' | '(' expr ')'
 
 so ``-x^2`` is ``-(x^2)`` and ``2^-x^2`` is ``2^(-(x^2))``.  Numbers are
-decimal (``3``, ``.5``, ``1e-3``); ``FUNC`` is one of :data:`FUNCTIONS`.
+decimal (``3``, ``.5``, ``1e-3``); ``FUNC`` is one of :data:`FUNCTIONS`:
+``exp exp2 log log2 sqrt erf abs``, the trigonometric ``sin cos tan asin acos
+atan`` (radians) and the hyperbolic ``sinh cosh tanh``, so that the fits of
+routines/trig.py are commands too, e.g. ``"(sin(sqrt(x))-sqrt(x))/x^1.5"``.
 
 :func:`parse` never evaluates Python code: it builds a tree of closures that
 evaluate with :mod:`mpmath` at the precision current at call time.  Domain
 errors (``log(-1)``, ``sqrt(-1)``, negative base to a fractional power)
 raise :class:`ValueError`, division by zero raises :class:`ZeroDivisionError`;
-results are always real :class:`mpmath.mpf` values.
+``asin``/``acos`` outside [-1, 1] raise :class:`ValueError` too; results are
+always real :class:`mpmath.mpf` values.
 """
 
 from __future__ import annotations
@@ -59,6 +63,16 @@ def _sqrt(v: mpf) -> mpf:
     return mp.sqrt(v)
 
 
+def _arc(fn: Callable[[mpf], mpf], name: str) -> Node:
+    """asin/acos: a real result only on [-1, 1] (mpmath would go complex outside)."""
+    def arc(v: mpf) -> mpf:
+        if not -1 <= v <= 1:
+            raise ValueError(f"{name} of a number outside [-1, 1]")
+        return fn(v)
+    arc.__name__ = name
+    return arc
+
+
 FUNCTIONS: dict[str, Node] = {
     "exp": mp.exp,
     "exp2": lambda v: mp.power(2, v),
@@ -67,6 +81,15 @@ FUNCTIONS: dict[str, Node] = {
     "sqrt": _sqrt,
     "erf": mp.erf,
     "abs": abs,
+    "sin": mp.sin,
+    "cos": mp.cos,
+    "tan": mp.tan,
+    "asin": _arc(mp.asin, "asin"),
+    "acos": _arc(mp.acos, "acos"),
+    "atan": mp.atan,
+    "sinh": mp.sinh,
+    "cosh": mp.cosh,
+    "tanh": mp.tanh,
 }
 
 _TOKEN = re.compile(

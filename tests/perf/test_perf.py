@@ -1,7 +1,8 @@
 """Fast tests of the performance tools: Pareto frontier and hull, the chart,
-clock calibration, the cost model's pipe sharing, peers reported absent, a
-tiny run of the report (its JSON keys), and the report's command without
-matplotlib."""
+clock calibration, the cost model's pipe sharing and loop iteration, peers
+reported absent, the trigonometric peers and inputs, a tiny run of the report
+(its JSON keys, exp2 and the trigonometric functions), the bench, and the
+report's command without matplotlib."""
 from __future__ import annotations
 
 import json
@@ -75,6 +76,16 @@ def test_chart_written(tmp_path):
         assert b"<svg" in open(paths[1], "rb").read()
 
 
+def test_a_far_point_does_not_squeeze_the_panel(tmp_path):
+    assert chart.x_limit([1.0, 1.2, 1.5, 2.0, 31.0]) == pytest.approx(2.2)
+    assert chart.x_limit([1.0, 1.2, 1.5, 2.0, 5.0]) is None and chart.x_limit([1.0, 40.0]) is None
+    pts = [{"x": x, "y": y, "label": lab, "family": fam, "width": None, "fma": None, "conforming": True}
+           for x, y, lab, fam in ((1.0, 2.0, "a", "ours full"), (1.2, 1.5, "b", "numpy"),
+                                  (1.5, 1.0, "c", "sleef"), (31.0, 0.5, "numba", "numba"))]
+    paths = chart.draw({"sin": pts}, str(tmp_path / "far"))
+    assert b"numba 31 c/e" in open(paths[1], "rb").read()  # the far point, labelled at the edge
+
+
 # -- clock ----------------------------------------------------------------------------------
 
 def test_clock_calibration_runs_with_the_hosts_table():
@@ -122,6 +133,28 @@ def test_model_classes_share_pipes():
     assert max(b.values()) == pytest.approx(10.0)
 
 
+def test_the_model_takes_the_blocks_every_iteration_runs():
+    """exp2's loop is one block; sin's has an If(Any(|x| > 2^17)) block (Payne-Hanek) that
+    typical arguments never enter: the model and the window bound leave it out."""
+    import llvmlite.binding as llvm
+
+    import reactor
+    import routines
+    for name, skipped in (("exp2", False), ("pow", False), ("sin", True), ("tan", True), ("asin", False)):
+        k = reactor.kernel_of(routines.jit(name, "full", True))
+        fn = llvm.parse_assembly(k.optimized_ir).get_function(f"{k.name}.loop")
+        body, left_out = model.iteration(fn)
+        blocks = {b.name: b for b in fn.blocks}
+        assert bool(left_out) == skipped, (name, left_out)
+        vec_body = len(list(blocks["vec.body"].instructions))
+        assert len(body) > vec_body if skipped else len(body) == vec_body  # no If: one block
+        pred = model.predict_kernel(routines.jit(name, "full", True))
+        assert pred.skipped == left_out and "call" not in pred.counts
+        assert ("not modelled" in pred.explain()) == skipped
+    # sin: the polynomial (in the block after the If) is counted: > 8 FMAs
+    assert model.predict_kernel(routines.jit("sin", "full", True)).counts["fma"] >= 8
+
+
 def test_window_bound_and_verdicts():
     import routines
     u = routines.jit("exp2", "full", True, 8)
@@ -146,6 +179,36 @@ def test_missing_peer_library_is_absent():
         assert not p.present and p.to_json()["status"] == "absent"
         assert "not installed" in p.reason
     assert next(p for p in ps if p.key == "numpy exp2").present
+
+
+def test_trig_peers_and_families():
+    ps = peers.peers(["sin", "atan2"], {"sleef": "libsleef-not-here.so.9", "libmvec": "libmvec-not-here.so.1"})
+    keys = {p.key: p for p in ps}
+    assert set(keys) == {"numpy sin", "libmvec sin", "sleef sin u10", "sleef sin u35", "sleef fastsin u3500",
+                         "numba sin", "numpy atan2", "libmvec atan2", "sleef atan2 u10", "sleef atan2 u35",
+                         "numba atan2"}
+    assert keys["libmvec atan2"].label == "_ZGVeN16vv_atan2f" and keys["libmvec sin"].label == "_ZGVeN16v_sinf"
+    assert not keys["libmvec sin"].present and "not installed" in keys["libmvec sin"].reason
+    assert keys["numpy atan2"].present and keys["sleef fastsin u3500"].claimed == "350 ULP"
+    only = peers.peers(["cos"], families=("libmvec", "sleef"))
+    assert {p.family for p in only} == {"libmvec", "sleef"} and len(only) == 4
+    # where libmvec is there, its symbols are called with the routine's operand order: atan2(y, x)
+    mvec = peers.peers(["atan2"], families=("libmvec",))[0]
+    if mvec.present:
+        y, x = np.float32([1, 1, -1, -1] * 4), np.float32([1, -1, 1, -1] * 4)
+        got = peers.as_array_function(mvec.fn)(y, x)
+        assert np.allclose(got, np.arctan2(y, x), atol=1e-6)
+
+
+def test_trig_inputs():
+    (a,) = timing.inputs("asin", 4096)
+    assert a.min() >= -1 and a.max() <= 1 and a.min() < -0.9 and a.max() > 0.9
+    y, x = timing.inputs("atan2", 4096)
+    assert (x < 0).any() and (y < 0).any() and not np.array_equal(x, y)
+    for name in ("sin", "cos", "tan", "atan", "sinh", "cosh", "tanh"):
+        (v,) = timing.inputs(name, 4096)
+        assert np.array_equal(v, timing.inputs("exp2", 4096)[0])  # [-10, 10]
+    assert np.array_equal(timing.inputs("pow", 64)[1], timing.inputs("exp2", 64)[0])  # unchanged draws
 
 
 def test_timing_same_inputs_and_passes():
@@ -183,6 +246,56 @@ def test_report_tiny(tmp_path):
     assert "exp2" in text and "absent" in text and "Targets" in text
     paths = chart.draw(report.chart_panels(data), str(tmp_path / "chart"))
     assert all((tmp_path / p.rsplit("/", 1)[1]).stat().st_size > 1000 for p in paths)
+
+
+def test_report_tiny_trig(tmp_path):
+    """The trigonometric functions in the report: accuracy measured by the lab on the JIT output
+    (and on the peers), the two-operand floor on atan2's inputs, one chart panel each."""
+    r = report.run(("sin", "atan2"), sizes={"L2": 4096}, rounds={"L2": 2}, samples=2 ** 10,
+                   threads2=False, progress=False, libraries={"sleef": "libsleef-not-here.so.9"},
+                   calibrate_ops=1 << 14)
+    data = json.loads(json.dumps(report.to_json(r)))
+    assert len(data["variants"]) == 2 * 2 * 2 * 3
+    for v in data["variants"]:
+        a = v["accuracy"]
+        assert a["conforming"] and a["count"] > 2 ** 10, (v["key"], a)
+        assert a["max_ulp32"] < 3 if v["precision"] == "full" else a["max_margin"] < 0.2
+        assert "model" in v and v["model"]["cycles_per_vector"] > 0
+    sin_model = next(v for v in data["variants"] if v["key"] == "sin full fma w16")["model"]
+    assert "not modelled (conditional)" in sin_model["explain"]
+    floors = {f["key"]: f["func"] for f in data["floors"]}
+    assert floors["floor add w16"] == "atan2" and floors["floor copy w16"] == "sin"
+    peer = next(p for p in data["peers"] if p["key"] == "numpy atan2")
+    assert peer["accuracy"]["full"]["count"] > 2 ** 10 and peer["accuracy"]["verdict"]["class"] == "highp"
+    assert next(p for p in data["peers"] if p["key"] == "sleef sin u10")["status"] == "absent"
+    panels = report.chart_panels(data)
+    assert set(panels) == {"sin", "atan2"} and all(len(p) >= 12 for p in panels.values())
+    assert "atan2" in report.print_table(r)
+
+
+def test_report_functions_option():
+    from routines.cli.report import _expand
+    assert report.DEFAULT_FUNCTIONS == report.EXP_LOG and set(report.TRIG) <= set(report.FUNCTIONS)
+    assert _expand(["trig"]) == list(report.TRIG)
+    assert _expand(["exp2", "all"]) == list(report.FUNCTIONS)
+    assert _expand(["sin", "trig", "exp2"]) == list(report.TRIG) + ["exp2"]
+
+
+def test_bench_rows_with_peers_and_absent_ones(capsys):
+    from routines.cli import bench
+    rows = bench.run(["sin", "atan2"], size=1024, rounds=1,
+                     libraries={"sleef": "libsleef-not-here.so.9"})
+    by = {(r["function"], r["variant"]): r for r in rows}
+    for f in ("sin", "atan2"):
+        assert by[(f, "numpy")]["speedup_vs_numpy"] == 1.0
+        assert by[(f, "full fma=on")]["ns_per_element"] > 0
+        assert by[(f, "sleef u10")]["absent"].startswith("libsleef-not-here.so.9 not installed")
+    assert by[("sin", "sleef fastsin u3500")]["ns_per_element"] is None
+    text = bench.table(rows)
+    assert "absent: libsleef-not-here.so.9 not installed" in text and "atan2" in text
+    import routines
+    assert set(bench.DEFAULT_FUNCTIONS) == set(routines.NAMES) == set(bench.NUMPY) >= set(report.TRIG)
+    assert bench.expand(["trig", "sin", "exp2"]) == list(report.TRIG) + ["exp2"]
 
 
 TINY = {"sizes": {"L2": 4096}, "rounds": {"L2": 2}, "samples": 2 ** 10, "threads2": False,

@@ -35,6 +35,12 @@ from routines.remez.cli import main
         ("exp2(x) - exp(log(2) * x)", 0.75, "0"),
         ("log2(8) + sqrt(x) * abs(-2) + erf(0)", 9, "9"),
         ("x/2^23*-4", 2**23, "-4"),
+        ("sin(x)^2 + cos(x)^2", 0.7, "1"),
+        ("tan(x) - sin(x)/cos(x)", -1.3, "0"),
+        ("asin(sin(x)) + acos(cos(x)) + atan(tan(x))", 0.25, "0.75"),
+        ("sinh(x) + cosh(x) - exp(x) + tanh(x) - sinh(x)/cosh(x)", 2, "0"),
+        ("atan(1)*4 - acos(-1) + asin(1)*2", 0, "3.1415926535897932384626433832795"),
+        ("(sin(sqrt(x))-sqrt(x))/x^1.5", 0.25, "-0.164595691166375997813696518275"),
     ],
 )
 def test_parse_evaluates(text, x, expected):
@@ -45,7 +51,8 @@ def test_parse_evaluates(text, x, expected):
 @pytest.mark.parametrize(
     "text, position, fragment",
     [
-        ("sin(x)", 0, "unknown name 'sin'"),
+        ("sec(x)", 0, "unknown name 'sec'"),
+        ("atan2(x, 1)", 0, "unknown name 'atan2'"),
         ("(2^x-1/x", 0, "'(' never closed"),
         ("exp((x)", 3, "'(' never closed"),
         ("2^x)", 3, "unexpected ')'"),
@@ -67,7 +74,8 @@ def test_parse_errors_name_problem_and_position(text, position, fragment):
     assert isinstance(info.value, ValueError)
 
 
-@pytest.mark.parametrize("text, x", [("log(x)", -1), ("sqrt(x)", -1), ("x^0.5", -4), ("log2(x)", 0)])
+@pytest.mark.parametrize("text, x", [("log(x)", -1), ("sqrt(x)", -1), ("x^0.5", -4), ("log2(x)", 0),
+                                     ("asin(x)", 1.5), ("acos(x)", -2), ("asin(x+1)", 0.001)])
 def test_domain_errors_raise_instead_of_going_complex(text, x):
     with pytest.raises(ValueError):
         parse(text)(x)
@@ -303,7 +311,7 @@ def test_cli_json(capsys):
 @pytest.mark.parametrize(
     "argv, fragment",
     [
-        (["-d", "4", "-r", "0:1", "sin(x)"], "invalid function: unknown name 'sin'"),
+        (["-d", "4", "-r", "0:1", "sec(x)"], "invalid function: unknown name 'sec'"),
         (["-d", "4", "-r", "0:1", "(2^x-1/x"], "unbalanced parenthesis: '(' never closed at position 0"),
         (["-d", "4", "-r", "0:1", "exp(x)", "1/(x"], "invalid weight function: unbalanced parenthesis"),
         (["-d", "0", "-r", "0:1", "x"], "invalid degree 0"),
@@ -325,6 +333,22 @@ def test_cli_bad_input_exits_2_with_a_message(argv, fragment, capsys):
 def test_cli_fit_failure_exits_1(capsys):
     assert main(["-d", "3", "-r", "0:1", "1/(x-0.5)"]) == 1
     assert "pole or non-removable singularity" in capsys.readouterr().err
+    assert main(["-d", "2", "-r", "0:2", "asin(x)"]) == 1  # outside asin's domain past x = 1
+    assert "cannot evaluate" in capsys.readouterr().err
+
+
+def test_cli_fits_the_trig_polynomials_in_z(capsys):
+    """The odd functions of routines/trig.py in z = r^2, as their recorded commands state
+    (tests/routines/test_trig.py reruns every one): sin's relaxed polynomial."""
+    from routines import polynomials as P
+
+    poly = P.SIN_RELAXED
+    assert poly.remez_command() in poly.provenance
+    lo, hi = poly.interval
+    assert main(["-d", str(poly.degree), "-r", f"{lo}:{hi}", poly.function, poly.weight, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert tuple(data["coefficients"]) == poly.coefficients
+    assert data["error"] == pytest.approx(2.1e-6, rel=0.05)  # 2^-18.9, as the provenance says
 
 
 # --- retune -----------------------------------------------------------------------

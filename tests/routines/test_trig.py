@@ -5,6 +5,7 @@ pairs, the polynomials' provenance, the FMA toggle, and use inside a user's own 
 Sampled inputs only (>= 2^18 per variant plus the hard regions); the exhaustive sweeps are
 `python -m routines accuracy F --exhaustive`."""
 import itertools
+import re
 from pathlib import Path
 
 import numpy as np
@@ -150,21 +151,47 @@ def test_atan2_pairs_and_strata():
     assert exps.min() < -140 and exps.max() > 120
 
 
+def _recorded_command(poly):
+    """The ``python -m routines remez ...`` command in the provenance, as an argv."""
+    import shlex
+    found = re.search(r'python -m routines remez(?: +(?:"[^"]*"|[^\s";)]+))+', poly.provenance)
+    assert found, poly.provenance
+    argv = shlex.split(found.group(0))
+    assert argv[:4] == ["python", "-m", "routines", "remez"]
+    return argv[4:]
+
+
 @pytest.mark.parametrize("poly", P.TRIG, ids=lambda p: p.name)
-def test_polynomials_reproduce_from_the_fitter(poly):
+def test_polynomials_reproduce_from_the_fitter(poly, capsys):
     """Each coefficient list is the float32 rounding of our Remez fit (routines.remez), as the
-    provenance states: the Python-API fits for the trigonometric functions, the command's
-    expressions for exp."""
+    provenance states: the command recorded there (run in process, ~0.3 s each) prints these
+    digits, and so do the same fits through the Python API with mpmath callables."""
+    import json
+
     import mpmath
 
     from routines.remez import remez
+    from routines.remez.cli import main
+    assert poly.remez_command() in poly.provenance  # the command states the recorded f, weight, range
+    argv = _recorded_command(poly)
+    assert main(argv + ["--json"]) == 0
+    assert tuple(json.loads(capsys.readouterr().out)["coefficients"]) == poly.coefficients
     fits = P._trig_fits()
     if poly.name in fits:
         f, w, a, b, degree = fits[poly.name]
         fit = remez(f, mpmath.mpf(a), mpmath.mpf(b), degree, w)
-    else:
-        fit = remez(poly.function, poly.interval[0], poly.interval[1], poly.degree, poly.weight)
-    assert tuple(reversed(fit.float32_strings)) == poly.coefficients
+        assert tuple(reversed(fit.float32_strings)) == poly.coefficients
+
+
+def test_a_trig_polynomial_reproduces_from_its_command_line():
+    """The recorded command itself, as a user runs it: sin's full-precision polynomial."""
+    import subprocess
+    import sys
+    argv = _recorded_command(P.SIN_FULL)
+    out = subprocess.run([sys.executable, "-m", "routines", "remez", *argv], capture_output=True,
+                         text=True, check=True, cwd=Path(__file__).resolve().parents[2]).stdout
+    literals = re.findall(r"([-+0-9.e]+)f;", out)
+    assert [np.float32(v) for v in literals] == [np.float32(c) for c in P.SIN_FULL.coefficients], out
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -36,11 +36,11 @@ from .runner import run
 from .speed import measure_speed
 from .table import print_table
 from .targets import check_targets
-from .variants import DEFAULT, FUNCTIONS, PRECISIONS, WIDTHS, build_variants
+from .variants import DEFAULT, DEFAULT_FUNCTIONS, EXP_LOG, FUNCTIONS, PRECISIONS, TRIG, WIDTHS, build_variants
 
 __all__ = [
     "run", "to_json", "print_table", "chart_panels", "search_points", "check_targets",
     "window_bound", "gap_verdict", "attach_gaps", "build_variants", "floor_kernels", "probe_kernels",
     "machine_state", "measure_accuracy", "measure_speed",
-    "FUNCTIONS", "PRECISIONS", "WIDTHS", "DEFAULT", "FP_SCHEDULER", "DISPATCH", "GAP",
+    "FUNCTIONS", "DEFAULT_FUNCTIONS", "EXP_LOG", "TRIG", "PRECISIONS", "WIDTHS", "DEFAULT", "FP_SCHEDULER", "DISPATCH", "GAP",
 ]

@@ -27,9 +27,9 @@ def _measure(fn, func, precision, sample, exhaustive, progress):
     with np.errstate(all="ignore"):
         if not exhaustive:
             return evaluate(fn, func, precision, *sample)
-        if func == "pow":
-            from routines.lab.pairs import stratified_pow
-            return stratified_pow(fn, precision, progress=progress)
+        if func in ("pow", "atan2"):  # two operands: the stratified pair sweep
+            from routines.lab.pairs import stratified
+            return stratified(fn, func, precision, progress=progress)
         return sweep(fn, func, precision, progress=progress)
 
 

@@ -41,12 +41,12 @@ def window_bound(ufunc) -> dict:
 
     kern = kernel_of(ufunc)
     fn = llvm.parse_assembly(kern.optimized_ir).get_function(f"{kern.name}.loop")
-    body = next(b for b in fn.blocks if b.name == "vec.body")
+    body, _ = M.iteration(fn)  # the blocks every iteration runs (the model's)
     minmax = M._minmax_selects(body)
     folded = set(minmax.values())
     finish: dict[int, float] = {}
     wait, fp_ops, position = 0.0, 0, 0
-    for instr in body.instructions:
+    for instr in body:
         cls = M.classify(instr)
         if M._key(instr) in folded:
             cls = None
@@ -118,7 +118,7 @@ def attach_gaps(variants, floors, state) -> None:
     floor_of = {f["key"]: f for f in floors}
     for v in variants:  # where it spends, at the L1 and L2 sizes
         m = v["model"]
-        fl = (floor_of.get(f"floor {'add' if v['func'] == 'pow' else 'copy'} w{v['width']}")
+        fl = (floor_of.get(f"floor {'add' if v['func'] in ('pow', 'atan2') else 'copy'} w{v['width']}")
               or floor_of.get(f"floor copy w{v['width']}"))
         v["gap"] = {}
         for size in ("L1", "L2"):

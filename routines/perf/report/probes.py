@@ -15,8 +15,9 @@ from .variants import WIDTHS
 
 def floor_kernels(functions) -> list[dict]:
     """Reactor kernels that only move data, at widths 4/8/16: ``out = x``
-    (timed on the first unary function's inputs) and ``out = x + y`` (on
-    pow's): the memory and loop floor of the harness at each size and width."""
+    (timed on the first unary function's inputs) and ``out = x + y`` (on the
+    first two-operand function's: pow's, or atan2's): the memory and loop floor
+    of the harness at each size and width."""
     import reactor
     from reactor import Float
 
@@ -27,15 +28,16 @@ def floor_kernels(functions) -> list[dict]:
         return x + y
 
     out = []
-    unary = [f for f in functions if f != "pow"]
+    unary = [f for f in functions if f not in ("pow", "atan2")]
+    binary = [f for f in functions if f in ("pow", "atan2")]
     for width in WIDTHS:
         if unary:
             out.append({"key": f"floor copy w{width}", "func": unary[0], "kind": "floor", "family": "floor",
                         "width": width, "label": "out = x (one input stream)",
                         "ufunc": reactor.kernel(copy, name=f"perf_floor_copy_w{width}", args=[Float],
                                                 returns=Float, width=width)})
-        if "pow" in functions:
-            out.append({"key": f"floor add w{width}", "func": "pow", "kind": "floor", "family": "floor",
+        if binary:
+            out.append({"key": f"floor add w{width}", "func": binary[0], "kind": "floor", "family": "floor",
                         "width": width, "label": "out = x + y (two input streams)",
                         "ufunc": reactor.kernel(add, name=f"perf_floor_add_w{width}", args=[Float, Float],
                                                 returns=Float, width=width)})

@@ -24,10 +24,10 @@ from .bounds import attach_gaps
 from .probes import floor_kernels, machine_state, probe_kernels
 from .speed import measure_speed, rescale as _rescale
 from .targets import check_targets
-from .variants import FUNCTIONS, PRECISIONS, WIDTHS, build_variants
+from .variants import DEFAULT_FUNCTIONS, PRECISIONS, WIDTHS, build_variants
 
 
-def run(functions=FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20, exhaustive=False,
+def run(functions=DEFAULT_FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20, exhaustive=False,
         exhaustive_peers=False, threads2=True, progress=True, libraries=None, calibrate_ops=None) -> dict:
     """Measure everything; returns the report dict (JSON-ready after ``to_json``).
 

@@ -13,7 +13,14 @@ import reactor
 from ...base import PRECISIONS
 from .bounds import window_bound
 
-FUNCTIONS = ("exp2", "log2", "pow", "exp", "log", "rcp", "rsqrt", "sqrt")
+#: The exponential, logarithmic and reciprocal routines: the report's default functions.
+EXP_LOG = ("exp2", "log2", "pow", "exp", "log", "rcp", "rsqrt", "sqrt")
+#: The trigonometric and hyperbolic routines (routines/trig.py).
+TRIG = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh")
+#: Every function the report can measure (``--functions``).
+FUNCTIONS = EXP_LOG + TRIG
+#: The functions of ``python -m routines report`` without ``--functions``.
+DEFAULT_FUNCTIONS = EXP_LOG
 #: The SIMD widths every variant is measured at (reactor's, without scalars).
 WIDTHS = tuple(w for w in reactor.WIDTHS if w > 1)
 #: The variant the targets and the table's "fma w16" figures refer to: FMA on, 16 lanes
