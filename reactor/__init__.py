@@ -20,7 +20,7 @@ from .dsl.intrinsics import (
 from .dsl.calls import RoutineCall, routine_call
 from .dsl.inline import inline
 from .dsl.signature import SIMD, Pointer
-from .dsl.textures import Table, Texture2D, Texture3D
+from .dsl.textures import ConstantTable, Table, Texture2D, Texture3D
 from .dsl.values import Value, set_power, vector_type
 from .dsl.vectors import Mat, Vec, mat_type, vec_type
 from .dsl.vectors import (bvec2, bvec3, bvec4, dvec2, dvec3, dvec4, f16vec2, f16vec3, f16vec4,  # noqa: F401
@@ -61,7 +61,7 @@ __all__ = [
     "Target", "TARGETS", "get_target", "WIDTHS", "KINDS",
     # values, types, variables, pointers
     "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable", "set_power",
-    "Table", "Texture2D", "Texture3D",
+    "Table", "Texture2D", "Texture3D", "ConstantTable",
     "Vec", "Mat", "vec_type", "mat_type", "vec2", "vec3", "vec4", "dvec2", "dvec3", "dvec4", "ivec2", "ivec3",
     "ivec4", "uvec2", "uvec3", "uvec4", "bvec2", "bvec3", "bvec4", "mat2", "mat3", "mat4",
     "u8vec2", "u8vec3", "u8vec4", "u16vec2", "u16vec3", "u16vec4", "f16vec2", "f16vec3", "f16vec4",

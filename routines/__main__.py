@@ -8,7 +8,7 @@ main job: every variant's accuracy and speed, the table, chart and JSON),
 docs (write docs/routines/*.md from the measurements), search (the variant
 search: the Pareto set of cost vs error), fingerprint (a hash of every
 variant's output bits, to prove a change left them alone), dump (the IR or
-assembly of a routine's kernel). ``python -m routines COMMAND --help`` tells more.
+assembly of a routine's kernel), pixels (prove the sRGB8 encode exact, time it). ``python -m routines COMMAND --help`` tells more.
 
 Exit status: 0 done, 1 a finding (a variant does not conform, fingerprints
 differ), 2 a usage error, 130 interrupted.
@@ -29,6 +29,7 @@ COMMANDS = {
     "search": "routines.cli.search",
     "fingerprint": "routines.lab.fingerprint",
     "dump": "routines.cli.dump",
+    "pixels": "routines.cli.pixels",
 }
 USAGE = "usage: python -m routines {" + ",".join(COMMANDS) + "} [options]"
 EXAMPLES = """examples:

@@ -388,8 +388,66 @@ def inverse(m: Mat) -> Mat:
 
 MATRIX = {f.__name__: f for f in (transpose, matrixCompMult, outerProduct, determinant, inverse)}
 
+
+# -- packing: channels in a uint (GLSL's packUnorm4x8 ...; routines.pixels has the formats) -----------
+
+def _packer(fmt: str, count: int, bits: int):
+    from . import pixels
+
+    def pack(v):
+        comps = list(v) if isinstance(v, Vec) else None
+        if comps is None or len(comps) != count:
+            raise DSLTypeError(f"pack{fmt.title()}{count}x{bits} takes a vec{count}, not {v!r}")
+        out = None
+        for k, c in enumerate(comps):
+            code = pixels.encode(c, f"{fmt}{bits}")
+            u32 = reactor.vector_type("UInt", code.width)
+            part = u32(code) << (bits * k)
+            out = part if out is None else out | part
+        return out
+
+    def unpack(u):
+        if not isinstance(u, Value) or u.kind.name != "UInt":
+            raise DSLTypeError(f"unpack{fmt.title()}{count}x{bits} takes a uint, not {u!r}")
+        kind = "UByte" if bits == 8 else "UShort"
+        comps = [pixels.decode(reactor.vector_type(kind, u.width)((u >> (bits * k)) & ((1 << bits) - 1)),
+                               f"{fmt}{bits}") for k in range(count)]
+        return vec_type("Float", count)._of(comps)
+    return pack, unpack
+
+
+def packHalf2x16(v: Vec) -> Value:  # noqa: N802 - GLSL's name
+    """Two float16 (rounded to nearest even, NaN and inf kept) in a uint, x in the low half."""
+    if not isinstance(v, Vec) or v.size != 2:
+        raise DSLTypeError(f"packHalf2x16 takes a vec2, not {v!r}")
+    halves = [reactor.As(reactor.vector_type("UShort", c.width), reactor.vector_type("Half", c.width)(c))
+              for c in v]
+    u32 = reactor.vector_type("UInt", halves[0].width)
+    return u32(halves[0]) | (u32(halves[1]) << 16)
+
+
+def unpackHalf2x16(u: Value) -> Vec:  # noqa: N802 - GLSL's name
+    """The vec2 of two float16 in a uint (exact)."""
+    if not isinstance(u, Value) or u.kind.name != "UInt":
+        raise DSLTypeError(f"unpackHalf2x16 takes a uint, not {u!r}")
+    comps = [reactor.vector_type("Float", u.width)(reactor.As(reactor.vector_type("Half", u.width),
+                                                              reactor.vector_type("UShort", u.width)(part)))
+             for part in (u & 0xFFFF, u >> 16)]
+    return vec_type("Float", 2)._of(comps)
+
+
+PACKING: dict[str, typing.Callable[..., typing.Any]] = {"packHalf2x16": packHalf2x16,
+                                                        "unpackHalf2x16": unpackHalf2x16}
+for _fmt, _count, _bits in (("unorm", 4, 8), ("snorm", 4, 8), ("unorm", 2, 16), ("snorm", 2, 16)):
+    _pack, _unpack = _packer(_fmt, _count, _bits)
+    _pack.__name__ = f"pack{_fmt.title()}{_count}x{_bits}"
+    _unpack.__name__ = f"unpack{_fmt.title()}{_count}x{_bits}"
+    _pack.__doc__ = f"GLSL's {_pack.__name__}: {_count} channels as {_fmt}{_bits} codes in a uint, first lowest."
+    _unpack.__doc__ = f"GLSL's {_unpack.__name__}: the vec{_count} of a uint of {_fmt}{_bits} codes."
+    PACKING[_pack.__name__], PACKING[_unpack.__name__] = _pack, _unpack
+
 BUILTINS: dict[str, typing.Callable[..., typing.Any]] = {
-    **COMPONENTWISE, "atan": atan, **GEOMETRIC, **RELATIONAL, **MATRIX}
+    **COMPONENTWISE, "atan": atan, **GEOMETRIC, **RELATIONAL, **MATRIX, **PACKING}
 
 globals().update(BUILTINS)
 

@@ -313,3 +313,47 @@ def _normalized(v: Value) -> Value:
 
 def _mix(a, b, t):
     return a * (1.0 - t) + b * t
+
+
+class ConstantTable:
+    """A lookup table known at build time (``ConstantTable([...], Float)``, made anywhere, e.g.
+    at module level): inside a body ``table[i]`` reads it with per-lane indices under ``wrap``
+    ("clamp" by default), from a constant array in the module's read-only data."""
+
+    def __init__(self, values, element=None, wrap: str = "clamp") -> None:
+        import numpy as np
+
+        from .values import Value as _Value
+        kind = (KINDS["Float"] if element is None else
+                element.vtype.kind if isinstance(element, type) and issubclass(element, _Value) else None)
+        if kind is None or kind.category == "bool":
+            raise DSLTypeError(f"ConstantTable element type must be a scalar kind (Float, Int, UByte ...), "
+                               f"not {element!r}")
+        self.values = np.asarray(values, dtype=kind.dtype).ravel().copy()
+        self.values.setflags(write=False)
+        if self.values.size == 0:
+            raise DSLTypeError("a ConstantTable needs at least one value")
+        self.spec = Table[value_class(VType(kind, 1)), wrap]
+
+    def __len__(self) -> int:
+        return int(self.values.size)
+
+    def __repr__(self) -> str:  # names the contents (kernels' recipe keys read it)
+        import hashlib
+        digest = hashlib.sha256(self.values.tobytes()).hexdigest()[:16]
+        return f"ConstantTable({self.spec.kind.name} x {self.values.size}, {self.spec.wrap!r}, sha256 {digest})"
+
+    def __getitem__(self, index):
+        em = _em.current()
+        kind = self.spec.kind
+        vt = VType(kind, 1)
+        if kind.is_float:
+            values = [float(v) for v in self.values]
+        else:
+            bits = kind.bits
+            values = [int(v) - (1 << bits) if int(v) >= 1 << (bits - 1) else int(v) for v in self.values]
+        g = em.module.constant_array(id(self), vt, values, "table")
+        base = em.cast_pointer(g, T.BYTE, name="table")
+        n = T.const(INDEX, len(values))
+        view = TextureValue(self.spec, base, [n], [T.const(INDEX, kind.mem_bytes)])
+        return view[index]

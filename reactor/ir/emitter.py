@@ -90,6 +90,22 @@ class ModuleEmitter:
             g.initializer = ir.Constant(ir.IntType(32), 0)
             return g
 
+    def constant_array(self, key, vt: "T.VType", values, name: str):
+        """A module-level constant array of ``values`` (of ``vt``'s kind, in memory form), made
+        once per ``key``; returns its address as a byte pointer value."""
+        cache = self.__dict__.setdefault("_constant_arrays", {})
+        g = cache.get(key)
+        if g is None:
+            elem = _llvm(T.memory(vt.with_width(1)))
+            array = ir.ArrayType(elem, len(values))
+            g = ir.GlobalVariable(self.module, array, name=self.unique_name(name))
+            g.global_constant = True
+            g.linkage = "internal"
+            g.initializer = ir.Constant(array, [ir.Constant(elem, v) for v in values])
+            g.align = 64
+            cache[key] = g
+        return g
+
     def unique_name(self, base: str) -> str:
         names = {g.name for g in self.module.global_values}
         i = 0
