@@ -13,6 +13,8 @@ import functools
 from ..build import BuildOptions
 from ..errors import ArityError, DSLTypeError, MissingReturnError, at_return_of
 from ..ir import emitter as _em
+from ..ir import ops
+from ..ir import types as T
 from ..ir.types import PointerType, VType
 from .signature import Signature
 from .values import Value, to_ir, value_class
@@ -58,8 +60,18 @@ class FunctionDef:
         with em:
             from .control import check_python_returns, return_value
             check_python_returns(self.body)
-            args = [PointerValue(p, a, em) if isinstance(p, PointerType) else value_class(p)._wrap(a, em)
-                    for p, a in zip(params, em.params)]
+            names = list(self.signature.names)
+
+            def length_of(p):  # a pointer's declared length as an i64 value (per-lane indices check it)
+                if isinstance(p.length, int):
+                    return T.const(T.INDEX, p.length)
+                if isinstance(p.length, str) and p.length in names:
+                    k = names.index(p.length)
+                    return ops.convert(em, params[k], T.INDEX, em.params[k]) if isinstance(params[k], VType) \
+                        and params[k].width == 1 and params[k].kind.is_integer else None
+                return None
+            args = [PointerValue(p, a, em, length_of(p)) if isinstance(p, PointerType)
+                    else value_class(p)._wrap(a, em) for p, a in zip(params, em.params)]
             result = self.body(*args)
             if result is not None and not em.terminated():
                 with at_return_of(self.body):

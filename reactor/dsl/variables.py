@@ -155,11 +155,12 @@ class PointerValue:
     starting at element ``i`` of a scalar pointer as one vector (unaligned).
     """
 
-    __slots__ = ("ptype", "_ir", "_emitter", "written")
+    __slots__ = ("ptype", "_ir", "_emitter", "written", "_length")
 
-    def __init__(self, ptype: PointerType, value, em):
+    def __init__(self, ptype: PointerType, value, em, length=None):
         self.ptype, self._ir, self._emitter = ptype, value, em
         self.written = False  # stored through (here or by a called function): needs a writeable array
+        self._length = length  # the declared length (pointee elements, an i64 value) when known
 
     def _ptr(self):
         em = _em.current()
@@ -182,12 +183,45 @@ class PointerValue:
         elem = vt.with_width(1) if vt.kind.category != "bool" else T.BYTE
         return em, em.address(em.cast_pointer(base, elem), idx)
 
+    def _lanes(self, index: Value, what: str):
+        """Per-lane element offsets (bytes) and the mask of the lanes whose index is inside the
+        declared length: a gather or scatter never touches memory outside the array."""
+        from .lanes import active_mask
+        em, base = self._ptr()
+        if self.ptype.pointee.width != 1:
+            raise DSLTypeError(f"per-lane indices are for pointers to scalars, not {self.ptype.name}")
+        if self._length is None:
+            raise DSLTypeError(f"{what} {self.ptype.name} with a per-lane index needs the pointer's length "
+                               f"(Pointer[{self.ptype.pointee.name}, 'n'] with n an Int argument, or a number): "
+                               f"lanes outside it read 0 and write nothing")
+        vt = self.ptype.pointee
+        w = index.width
+        i64 = VType(T.INDEX.kind, w)
+        idx = ops.convert(em, index.vtype, i64, index.ir)
+        inside = ops.compare(em, T.UINDEX.with_width(w), "lt", idx, em.splat(self._length, w))  # 0 <= i < n
+        mask = active_mask()
+        if mask is not None:
+            m = mask.ir if mask.width == w else em.splat(mask.ir, w)
+            inside = ops.binary(em, "and", VType(T.KINDS["Bool"], w), inside, m)
+        safe = em.select(inside, idx, T.const(i64, 0), name="index")
+        offsets = ops.binary(em, "mul", i64, safe, T.const(i64, vt.kind.mem_bytes))
+        return em, base, offsets, inside, vt.with_width(w)
+
     def _load(self, index, vt: VType):
+        if isinstance(index, Value) and index.width > 1 and index.kind.is_integer:
+            em, base, offsets, inside, lanes_vt = self._lanes(index, "reading")
+            raw = em.gather(lanes_vt, base, offsets, inside, name="gather")
+            return value_class(lanes_vt)._wrap(ops.from_memory(em, lanes_vt, raw), em)
         em, addr = self._address(index, vt)
         return value_class(vt)._wrap(ops.load(em, vt, addr), em)
 
     def _store(self, index, value, vt: VType):
         from .lanes import active_mask
+        if isinstance(index, Value) and index.width > 1 and index.kind.is_integer:
+            em, base, offsets, inside, lanes_vt = self._lanes(index, "writing")
+            self.written = True
+            em.scatter(lanes_vt, ops.to_memory(em, lanes_vt, to_ir(value, lanes_vt)), base, offsets, inside)
+            return
         if active_mask() is not None:
             raise ControlFlowError(f"a store through {self.ptype.name} under a per-lane condition: only some "
                                    f"lanes should store; compute the value with Select and store it outside")

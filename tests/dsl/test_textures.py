@@ -244,3 +244,23 @@ def test_texture_misuse_is_a_clear_error():
         kernel(lambda t: t[0], args=[Table[Float]], returns=Float)
     with pytest.raises(DSLTypeError, match="sample takes Float"):
         kernel(lambda i, t: t.sample(i, i), args=[Int, Texture2D[Float]], returns=Float)
+
+
+def test_pointer_reads_and_writes_with_per_lane_indices():
+    from reactor import Extract, Int4, Pointer, function
+
+    @function
+    def scatter_gather(p: Pointer[Float, "n"], n: Int, q: Pointer[Float, "n"]) -> Float:
+        v = p[Int4(3, -1, 5, 100)]  # lanes outside [0, n) read 0
+        q[Int4(0, 1, 7, 2)] = v * 2.0
+        return Extract(v, 0) + Extract(v, 2)
+
+    p, q = np.arange(8, dtype=np.float32), np.zeros(8, np.float32)
+    assert scatter_gather(p, 8, q) == 8.0
+    np.testing.assert_array_equal(q, [6, 0, 0, 0, 0, 0, 0, 10])
+
+    def unbounded(p: Pointer[Float], i: reactor.Int4) -> reactor.Float4:
+        return p[i]
+
+    with pytest.raises(DSLTypeError, match="needs the pointer's length"):
+        reactor.Function(unbounded).compile()

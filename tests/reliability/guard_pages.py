@@ -13,7 +13,8 @@ import sys
 
 import numpy as np
 
-from reactor import Bool, Float, Float4, For, Int, Pointer, Select, function, kernel
+from reactor import (Bool, Extract, Float, Float4, For, Int, Int16, Pointer, Select, Table, Texture2D,
+                     function, kernel, vec4)
 
 PAGE = mmap.PAGESIZE
 CANARY = 0xA5
@@ -118,9 +119,72 @@ def fill_tail(p: Pointer[Float, "n"], n: Int):
         p[j] = Select(p[j] > -1e30, p[j] + 1.0, p[j])
 
 
+HOSTILE_INDICES = np.array([-2**31, -2**31 + 1, -1000000, -65, -64, -63, -17, -16, -15, -2, -1, 0, 1, 2, 14,
+                            15, 16, 17, 62, 63, 64, 65, 1000000, 2**31 - 2, 2**31 - 1], np.int32)
+HOSTILE_COORDS = np.float32([np.nan, np.inf, -np.inf, -1e30, 1e30, -3e9, 3e9, -1.5, -0.5, 0, 0.5, 0.999999,
+                             1, 1.5, 17.25, -17.25, 2**24, -2**24])
+
+
+def check_tables_and_textures(rng) -> int:
+    """Per-lane reads of guarded tables and textures at hostile indices and coordinates, every
+    wrap mode and filter, sizes 1..65: a read outside the array faults or shows as a wrong value."""
+    checks = 0
+    for mode in ("clamp", "repeat", "mirror", "border"):
+        look = kernel(lambda i, t: t[i], args=[Int, Table[Float, mode]], returns=Float, name=f"gt_{mode}",
+                      cache=False)
+        samp = kernel(lambda u, v, t: t.sample(u, v), args=[Float, Float, Texture2D[vec4, mode, "linear"]],
+                      returns=vec4, name=f"gs_{mode}", cache=False)
+        for n in (1, 2, 3, 15, 16, 17, 64, 65):
+            for at in ("end", "start"):
+                g = Guarded(n, np.float32, at)
+                g.array[:] = np.arange(n, dtype=np.float32) + 1
+                got = look(HOSTILE_INDICES, g.array)
+                assert np.all((got == 0) | ((got >= 1) & (got <= n))), (mode, n, at)  # a table value or border 0
+                tex = Guarded(n * 3 * 4, np.float32, at)
+                tex.array[:] = 0.5
+                img = tex.array.reshape(n, 3, 4)
+                u = np.repeat(HOSTILE_COORDS, len(HOSTILE_COORDS))
+                v = np.tile(HOSTILE_COORDS, len(HOSTILE_COORDS))
+                out = samp(u, v, img)
+                assert np.all(np.isnan(out) | ((out >= 0) & (out <= 0.5000001))), (mode, n, at)
+                assert g.canaries_intact() and tex.canaries_intact()
+                g.free()
+                tex.free()
+                checks += 2
+    return checks
+
+
+@function
+def gather_scatter(p: Pointer[Float, "n"], n: Int, i: Int16, out: Pointer[Float, "n"]) -> Float:
+    """Per-lane indices into guarded pointers: lanes outside [0, n) read 0 and write nothing."""
+    v = p[i]
+    out[i] = v + 1.0
+    return Extract(v, 0)
+
+
+def check_pointer_lanes(rng) -> int:
+    checks = 0
+    for n in range(1, 40):
+        for at in ("end", "start"):
+            p, out = Guarded(n, np.float32, at), Guarded(n, np.float32, at)
+            p.array[:] = np.arange(n, dtype=np.float32)
+            out.array[:] = -7
+            idx = rng.choice(HOSTILE_INDICES, 16).astype(np.int32)
+            gather_scatter(p.array, n, idx, out.array)
+            inside = (idx >= 0) & (idx < n)
+            expect = np.full(n, -7, np.float32)
+            expect[idx[inside]] = idx[inside] + 1
+            assert np.array_equal(out.array, expect), (n, idx)
+            assert p.canaries_intact() and out.canaries_intact()
+            p.free()
+            out.free()
+            checks += 1
+    return checks
+
+
 def main() -> int:
     rng = np.random.default_rng(5)
-    checks = 0
+    checks = check_tables_and_textures(rng) + check_pointer_lanes(rng)
     for target in ("host", "avx2", "sse4"):
         for width in (1, 4, 8, 16):
             uf = kernel(body, name=f"guard_{target}_{width}", width=width, target=target, fma=False, cache=False)
