@@ -187,9 +187,13 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
     doc = (body.__doc__ or f"reactor kernel '{name}'").strip() + "\n\nBuilt for " + \
         "; ".join(f"{k.types}: {k.build.describe()}" for k in kernels) + "."
     ref = group.ufunc_ref
-    ufunc = make_ufunc(name, doc, [k._loop for k in kernels], [k._signature[0] for k in kernels],
+    traps = _dtype_traps(name, kernels)  # first: NumPy takes the first loop its operands fit
+    group.traps = [data for _, _, data in traps]
+    ufunc = make_ufunc(name, doc, [t[0] for t in traps] + [k._loop for k in kernels],
+                       [t[1] for t in traps] + [k._signature[0] for k in kernels],
                        len(kernels[0].in_kinds), len(kernels[0].out_kinds), owner=(group, _UfuncFreed(ref)),
-                       data=[ctypes.addressof(k.config) for k in kernels], signature=kernels[0].gufunc_signature)
+                       data=[ctypes.addressof(t[2]) for t in traps] + [ctypes.addressof(k.config) for k in kernels],
+                       signature=kernels[0].gufunc_signature)
     ref._id = id(ufunc)
     for k in kernels:
         k.ufunc_ref = ref
@@ -198,6 +202,35 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
         _memo[key] = weakref.ref(group)
     weakref.finalize(group, _forget, id(ufunc), key)
     return ufunc
+
+
+#: integer dtypes NumPy would convert to a float texture's or table's dtype without a word
+_CONVERTIBLE = [np.dtype(t) for t in ("bool", "uint8", "int8", "uint16", "int16", "uint32", "int32")]
+
+
+def _dtype_traps(name: str, kernels) -> list:
+    """Loops that raise for a Table/Texture argument of another dtype, which NumPy would convert
+    silently (a uint8 image's 0..255 to float32 0..255): (loop, dtypes, data) each."""
+    from ..errors import ArgumentError
+    traps = []
+    for k in kernels:
+        for j, o in enumerate(k.ins):
+            if not o.uniform:
+                continue
+            for dt in _CONVERTIBLE:
+                # integers to a float texture: 0..255 would stay 0..255 (value-preserving casts pass)
+                if not (o.kind.is_float and dt.kind in "biu") or not np.can_cast(dt, o.dtype, "safe"):
+                    continue
+                hint = (f"declare {o.texture.family}[u8vec{o.channels}] (or UByte), read as unorm 0..1, or "
+                        f"convert it yourself" if dt == np.uint8 and o.kind.is_float else "convert it yourself")
+                message = (f"kernel '{name}': {o.name.split(' ', 1)[-1]} is a {o.texture.name} of {o.dtype}, not "
+                           f"{dt}: NumPy would convert the {dt} data silently; {hint} "
+                           f"(e.g. array.astype(np.{o.dtype}))")
+                loop, data = parallel.error_loop(message, ArgumentError)
+                dtypes = list(k._signature[0])
+                dtypes[j] = dt
+                traps.append((loop, dtypes, data))
+    return traps
 
 
 def _build_for(sig: Signature, base, name: str) -> Build:

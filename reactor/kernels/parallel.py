@@ -74,6 +74,23 @@ class LoopConfig(ctypes.Structure):
                 ("ndims", ctypes.c_int64)]  # entries of NumPy's dims: 1 + a gufunc's core dimensions
 
 
+class ErrorLoop(ctypes.Structure):
+    """The ``data`` of a loop that only raises (``reactor_raise``): NumPy picked it for operands a
+    kernel refuses (a texture of another dtype, which NumPy would convert silently)."""
+
+    _fields_ = [("settings", ctypes.POINTER(SettingsStruct)), ("message", ctypes.c_char_p),
+                ("exception", ctypes.c_void_p)]
+
+
+def error_loop(message: str, exception: type) -> tuple[int, ErrorLoop]:
+    """(address of ``reactor_raise``, its data) for a loop that raises ``exception(message)``;
+    keep the data alive as long as the ufunc."""
+    _runtime_addresses()
+    data = ErrorLoop(ctypes.pointer(_settings), message.encode(), id(exception))
+    data._keep = exception
+    return runtime().address("reactor_raise"), data
+
+
 class Settings(NamedTuple):
     """The thread settings: ``threads``, and when a call is split (``threshold`` elements
     and ``min_work`` estimated cycles, both needed)."""
@@ -128,14 +145,18 @@ def make_config(nargs: int, cycles_per_element: float, messages=(), ndims: int =
     ``dims`` its loop reads (1 + a gufunc's distinct core dimensions)."""
     if ndims > MAX_DIMS:
         raise ValueError(f"a kernel may have at most {MAX_DIMS - 1} core dimensions, not {ndims - 1}")
-    if _settings.parallel_for is None:
-        _settings.parallel_for = runtime().address("reactor_parallel_for")
-        _settings.prepare = runtime().address("reactor_prepare")
+    _runtime_addresses()
     cycles = max(1, int(round(cycles_per_element * CYCLES_SCALE)))
     table = (ctypes.c_char_p * max(1, len(messages)))(*[m.encode() for m in messages])
     config = LoopConfig(ctypes.pointer(_settings), nargs, cycles, table, ndims)
     config._keep = table  # the strings live as long as the config
     return config
+
+
+def _runtime_addresses() -> None:
+    if _settings.parallel_for is None:
+        _settings.parallel_for = runtime().address("reactor_parallel_for")
+        _settings.prepare = runtime().address("reactor_prepare")
 
 
 # -- the native runtime ------------------------------------------------------------------------
@@ -148,8 +169,30 @@ def runtime():
     module = _em.ModuleEmitter("reactor.parallel", build)
     _emit_runtime(module)
     _emit_prepare(module)
-    return CompiledCode(module.text, build.target, build.opt, ("reactor_parallel_for", "reactor_prepare"),
-                        build.cache)
+    _emit_raise(module)
+    return CompiledCode(module.text, build.target, build.opt,
+                        ("reactor_parallel_for", "reactor_prepare", "reactor_raise"), build.cache)
+
+
+def _emit_raise(module) -> None:
+    """``void reactor_raise(args, dims, steps, data)``: a ufunc loop that sets Python's error from
+    its ``ErrorLoop`` (GIL taken) and touches no operand."""
+    from .loop import LOOP_NAMES, LOOP_PARAMS, SETTINGS
+
+    i32 = VType(KINDS["Int"], 1)
+    error_t = T.StructType((T.Address(SETTINGS), T.BYTES, T.BYTES))
+    em = _em.FunctionEmitter(module, "reactor_raise", None, LOOP_PARAMS, LOOP_NAMES, width=1)
+    with em:
+        data = em.cast_pointer(em.params[3], error_t, name="error")
+        settings = em.load(em.field(data, 0), name="settings")
+        message, exc = em.load(em.field(data, 1), name="message"), em.load(em.field(data, 2), name="exc")
+        ensure, set_error, release = (em.load(em.field(settings, k), name=n) for k, n in
+                                      ((5, "gil.ensure"), (6, "err.set"), (7, "gil.release")))
+        state = em.call_pointer(ensure, i32, [], [], name="gil")
+        em.call_pointer(set_error, None, [T.BYTES, T.BYTES], [exc, message])
+        em.call_pointer(release, None, [i32], [state])
+        em.ret(None)
+        em.finish()
 
 
 def _emit_runtime(module) -> None:

@@ -264,3 +264,17 @@ def test_pointer_reads_and_writes_with_per_lane_indices():
 
     with pytest.raises(DSLTypeError, match="needs the pointer's length"):
         reactor.Function(unbounded).compile()
+
+
+def test_an_integer_image_for_a_float_texture_is_a_clear_error_not_a_silent_conversion():
+    @kernel
+    def look(u: Float, img: Texture2D[vec4, "repeat"]) -> vec4:
+        return img.sample(u, u)
+
+    img = np.full((4, 4, 4), 0.5, np.float32)
+    np.testing.assert_array_equal(look(np.float32([0.3]), img), [[0.5] * 4])
+    np.testing.assert_array_equal(look(np.float32([0.3]), img.astype(np.float16)), [[0.5] * 4])  # exact: fine
+    with pytest.raises(reactor.ArgumentError, match=r"u8vec4.*astype"):
+        look(np.float32([0.3]), (img * 255).astype(np.uint8))
+    with pytest.raises(ValueError, match="core dimension"):
+        look(np.float32([0.3]), img[..., :3])
