@@ -13,7 +13,6 @@ import functools
 from ..build import BuildOptions
 from ..errors import ArityError, DSLTypeError, MissingReturnError, at_return_of
 from ..ir import emitter as _em
-from ..ir import ops
 from ..ir import types as T
 from ..ir.types import PointerType, VType
 from .signature import Signature
@@ -62,13 +61,13 @@ class FunctionDef:
             check_python_returns(self.body)
             names = list(self.signature.names)
 
-            def length_of(p):  # a pointer's declared length as an i64 value (per-lane indices check it)
+            def length_of(p):  # a pointer's declared length: (type, IR value), converted where used
                 if isinstance(p.length, int):
-                    return T.const(T.INDEX, p.length)
+                    return (T.INDEX, T.const(T.INDEX, p.length))
                 if isinstance(p.length, str) and p.length in names:
                     k = names.index(p.length)
-                    return ops.convert(em, params[k], T.INDEX, em.params[k]) if isinstance(params[k], VType) \
-                        and params[k].width == 1 and params[k].kind.is_integer else None
+                    if isinstance(params[k], VType) and params[k].width == 1 and params[k].kind.is_integer:
+                        return (params[k], em.params[k])
                 return None
             args = [PointerValue(p, a, em, length_of(p)) if isinstance(p, PointerType)
                     else value_class(p)._wrap(a, em) for p, a in zip(params, em.params)]

@@ -160,7 +160,7 @@ class PointerValue:
     def __init__(self, ptype: PointerType, value, em, length=None):
         self.ptype, self._ir, self._emitter = ptype, value, em
         self.written = False  # stored through (here or by a called function): needs a writeable array
-        self._length = length  # the declared length (pointee elements, an i64 value) when known
+        self._length = length  # the declared length (pointee elements) when known: (its type, IR value)
 
     def _ptr(self):
         em = _em.current()
@@ -198,7 +198,8 @@ class PointerValue:
         w = index.width
         i64 = VType(T.INDEX.kind, w)
         idx = ops.convert(em, index.vtype, i64, index.ir)
-        inside = ops.compare(em, T.UINDEX.with_width(w), "lt", idx, em.splat(self._length, w))  # 0 <= i < n
+        length = ops.convert(em, self._length[0], T.INDEX, self._length[1])
+        inside = ops.compare(em, T.UINDEX.with_width(w), "lt", idx, em.splat(length, w))  # 0 <= i < n
         mask = active_mask()
         if mask is not None:
             m = mask.ir if mask.width == w else em.splat(mask.ir, w)

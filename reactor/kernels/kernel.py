@@ -288,6 +288,7 @@ class Kernels:
     def __init__(self, kernels: list[Kernel]):
         self.kernels = kernels
         self.ufunc_ref = _UfuncRef()
+        self.traps: list = []  # the data of the loops that refuse a dtype (kept with the ufunc)
 
 
 class _UfuncRef:
