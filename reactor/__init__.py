@@ -33,6 +33,7 @@ from .errors import (
 )
 from .ir.types import KINDS, WIDTHS
 from .kernels.kernel import Kernel, kernel, kernel_of
+from .explain import explain
 from .kernels.parallel import configure as configure_threads, settings as thread_settings
 from .runtime.function import Function, Library, Module, Routine, function
 from .targets import TARGETS, Target, get_target
@@ -76,7 +77,7 @@ __all__ = [
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
     "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of",
-    "configure_threads", "thread_settings", "RoutineCall", "routine_call",
+    "configure_threads", "thread_settings", "RoutineCall", "routine_call", "explain",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
     "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",

@@ -47,10 +47,14 @@ def routine_call(name: str) -> typing.Iterator[None]:
         if call not in module.routine_calls:
             module.routine_calls.append(call)
     module.routine_depth = depth + 1
+    outer = module.routine_name
+    if depth == 0:
+        module.routine_name = name  # source lines group the routine's instructions under its name
     try:
         yield
     finally:
         module.routine_depth = depth
+        module.routine_name = outer
 
 
 def calls_of(module) -> list[RoutineCall]:

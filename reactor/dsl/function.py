@@ -11,7 +11,7 @@ from __future__ import annotations
 import functools
 
 from ..build import BuildOptions
-from ..errors import ArityError, DSLTypeError, MissingReturnError, at_return_of
+from ..errors import ArityError, DSLTypeError, MissingReturnError, at_return_of, return_location
 from ..ir import emitter as _em
 from ..ir import types as T
 from ..ir.types import PointerType, VType
@@ -74,6 +74,7 @@ class FunctionDef:
             result = self.body(*args)
             if result is not None and not em.terminated():
                 with at_return_of(self.body):
+                    em.line_override = return_location(self.body)
                     return_value(result, from_user=False)
             for block in em.finish():
                 if returns is not None:

@@ -63,13 +63,19 @@ class Scope:
 
 
 class ModuleEmitter:
-    """One LLVM module: a compilation unit holding several functions, built with one ``Build``."""
+    """One LLVM module: a compilation unit holding several functions, built with one ``Build``.
 
-    def __init__(self, name: str, build):
+    With ``lines`` every instruction carries the user's source line as a debug location
+    (``!dbg``), which survives optimization and reaches the assembly as ``.loc`` directives
+    (``reactor.explain`` reads them); the code is otherwise the same."""
+
+    def __init__(self, name: str, build, lines: bool = False):
         self.build = build
         self.module = ir.Module(name=name)
         self.module.triple = build.target.triple
         self.module.data_layout = build.target.data_layout
+        self.lines = _SourceLines(self.module) if lines else None
+        self.routine_name: str | None = None  # the outermost routine being emitted (for lines)
         self.functions: dict[object, ir.Function] = {}
         self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
         self.import_libraries: dict[str, str | None] = {}  # external symbol -> its library
@@ -169,6 +175,89 @@ def _element(t: ir.Type) -> ir.Type:
     return t.element if isinstance(t, ir.VectorType) else t
 
 
+#: A location's column is its group (0: the user's own code, k: the k-th routine emitted there),
+#: plus this for a kernel's width-1 tail body (so its copy of a line is told from the vector one's).
+TAIL_COLUMN = 100
+
+
+class _SourceLines:
+    """The debug metadata of a module built with lines: files, subprograms and locations. A
+    location's column is its group: 0 for the user's own code, k for the k-th routine (exp2,
+    pow ...) emitted there (``groups``), plus ``TAIL_COLUMN`` in a kernel's tail body."""
+
+    def __init__(self, module: ir.Module) -> None:
+        self.module = module
+        self.files: dict[str, typing.Any] = {}
+        self.groups: list[str] = [""]
+        self._locations: dict[tuple, typing.Any] = {}
+        self._scopes: dict[tuple, typing.Any] = {}
+        i32 = ir.IntType(32)
+        module.add_named_metadata("llvm.module.flags", module.add_metadata([i32(2), "Debug Info Version", i32(3)]))
+        module.add_named_metadata("llvm.module.flags", module.add_metadata([i32(2), "Dwarf Version", i32(4)]))
+        self.unit = module.add_debug_info("DICompileUnit", {
+            "language": ir.DIToken("DW_LANG_C99"), "file": self.file("<reactor>"), "producer": "reactor",
+            "runtimeVersion": 0, "isOptimized": True, "emissionKind": ir.DIToken("FullDebug")}, is_distinct=True)
+        module.add_named_metadata("llvm.dbg.cu", self.unit)
+        self.signature = module.add_debug_info("DISubroutineType", {"types": module.add_metadata([])})
+
+    def file(self, path: str):
+        found = self.files.get(path)
+        if found is None:
+            import os
+            found = self.files[path] = self.module.add_debug_info(
+                "DIFile", {"filename": os.path.basename(path), "directory": os.path.dirname(path) or "."})
+        return found
+
+    def subprogram(self, name: str):
+        return self.module.add_debug_info("DISubprogram", {
+            "name": name, "file": self.file("<reactor>"), "line": 0, "type": self.signature, "unit": self.unit,
+            "spFlags": ir.DIToken("DISPFlagDefinition | DISPFlagOptimized"), "scopeLine": 0}, is_distinct=True)
+
+    def group(self, routine: str | None) -> int:
+        name = routine or ""
+        if name not in self.groups:
+            self.groups.append(name)
+        return self.groups.index(name)
+
+    def location(self, subprogram, path: str | None, line: int, group: int):
+        key = (id(subprogram), path, line, group)
+        loc = self._locations.get(key)
+        if loc is None:
+            scope = subprogram
+            if path is not None:
+                skey = (id(subprogram), path)
+                scope = self._scopes.get(skey)
+                if scope is None:
+                    scope = self._scopes[skey] = self.module.add_debug_info(
+                        "DILexicalBlockFile", {"scope": subprogram, "file": self.file(path), "discriminator": 0})
+            loc = self._locations[key] = self.module.add_debug_info(
+                "DILocation", {"line": line, "column": group, "scope": scope})
+        return loc
+
+
+class _LocatingBuilder:
+    """An ``ir.IRBuilder`` that gives every instruction it makes the current source location."""
+
+    _PLAIN = frozenset({"position_at_end", "position_at_start", "position_before", "position_after",
+                        "goto_block", "goto_entry_block", "block", "function", "module"})
+
+    def __init__(self, builder: ir.IRBuilder, emitter: "FunctionEmitter") -> None:
+        self.__dict__["_builder"], self.__dict__["_emitter"] = builder, emitter
+
+    def __getattr__(self, name: str):
+        attr = getattr(self._builder, name)
+        if name in self._PLAIN or not callable(attr):
+            return attr
+
+        def located(*args, **kwargs):
+            self._builder.debug_metadata = self._emitter.source_location()
+            return attr(*args, **kwargs)
+        return located
+
+    def __setattr__(self, name: str, value) -> None:
+        setattr(self._builder, name, value)
+
+
 def _category(t: ir.Type) -> str:
     e = _element(t)
     return "float" if isinstance(e, (ir.FloatType, ir.DoubleType, ir.HalfType)) else "int"
@@ -201,6 +290,11 @@ class FunctionEmitter:
         self._entry = self.function.append_basic_block("entry")
         body = self.function.append_basic_block("body")
         self._b = ir.IRBuilder(self._entry)
+        self._subprogram = None
+        if module.lines is not None:
+            self._subprogram = module.lines.subprogram(name)
+            self.function.set_metadata("dbg", self._subprogram)
+            self._b = typing.cast(ir.IRBuilder, _LocatingBuilder(self._b, self))
         self._b.branch(body)
         self._b.position_at_end(body)
         self.scope: Scope = Scope(None, "function")
@@ -211,6 +305,21 @@ class FunctionEmitter:
         self.unentered: list = []  # blocks (If, For, ...) created but not yet entered with `with`
         self.lanes: typing.Any = None  # the execution-mask state (reactor.dsl.lanes), made on first use
         self.body_code: typing.Any = None  # the code object of the body being traced (Return's home)
+        self.line_override: tuple | None = None  # (file, line) for code emitted after the body returned
+
+    def source_location(self):
+        """The debug location of the instruction being made: the user's line while a body is
+        traced (its routine's group inside a routine), line 0 for reactor's own plumbing."""
+        from ..errors import user_location
+        lines = self.module.lines
+        where = None
+        if getattr(self, "dsl_function", None) is not None:
+            where = self.line_override or user_location()
+        if where is None:
+            return lines.location(self._subprogram, None, 0, 0)
+        tail = getattr(self.dsl_function, "is_kernel", False) and self.width == 1 and self.module.build.width > 1
+        column = lines.group(self.module.routine_name) + (TAIL_COLUMN if tail else 0)
+        return lines.location(self._subprogram, where[0], where[1], column)
 
     @property
     def name(self) -> str:

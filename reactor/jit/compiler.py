@@ -93,6 +93,13 @@ def cached_object(key: str, use_disk_cache: bool = True) -> tuple[bytes | None, 
     return obj, "disk cache"
 
 
+def listing(ir_text: str, target: Target, opt: int) -> tuple[str, str]:
+    """The optimized IR and the assembly of ``ir_text`` (nothing is loaded or cached)."""
+    mod = pipeline(ir_text, target, opt)
+    with _lock:
+        return str(mod), target.machine.emit_assembly(mod)
+
+
 class CompiledCode:
     """Machine code for one module, loaded into the process.
 

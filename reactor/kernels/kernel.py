@@ -71,6 +71,7 @@ class Kernel(ShowsCode):
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
         self.name, self.build = name, build
+        self.body = body  # traced again by reactor.explain (with source lines)
         ins, outs = _operands(signature, name)
         self.ins, self.outs = ins, outs
         self.in_kinds, self.out_kinds = [o.kind for o in ins], [o.kind for o in outs]
@@ -84,13 +85,14 @@ class Kernel(ShowsCode):
         self._signature = [[k.dtype for k in ins + outs]]
         self.types = "".join(k.dtype.char for k in ins) + "->" + "".join(k.dtype.char for k in outs)
 
-    def _module(self, body) -> tuple[_em.ModuleEmitter, float]:
-        """Trace ``body`` into its module: the bodies, the loop and the dispatcher."""
+    def _module(self, body, lines: bool = False) -> tuple[_em.ModuleEmitter, float]:
+        """Trace ``body`` into its module: the bodies, the loop and the dispatcher (with the
+        user's source line on every instruction if ``lines``)."""
         build, name, ins, outs = self.build, self.name, self.ins, self.outs
         collecting = gc.isenabled()
         gc.disable()  # tracing makes many objects and frees none: collections there cost, find nothing
         try:
-            module = _em.ModuleEmitter(name, build)
+            module = _em.ModuleEmitter(name, build, lines=lines)
             vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
             scalar = emit_body(module, name, body, ins, outs, 1)
             serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width).emit()
@@ -100,6 +102,10 @@ class Kernel(ShowsCode):
             if collecting:
                 gc.enable()
         return module, estimated_cycles(vector or scalar, build.width if vector else 1)
+
+    def traced_with_lines(self) -> _em.ModuleEmitter:
+        """This kernel's module traced again with source lines (for ``reactor.explain``)."""
+        return self._module(self.body, lines=True)[0]
 
     def _recipe(self, body, signature) -> str | None:
         return recipe_key(body, "kernel", self.name, signature, self.build.key())
@@ -124,7 +130,7 @@ class Kernel(ShowsCode):
         self.routines = [RoutineCall(*call) for call in found.get("routines", [])]
         code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
                             obj=obj, ir_source=lambda: self._module(body)[0].text)
-        code.source = f"recipe, {source}"
+        code.source = f"recipe, {source}" if code.source != "compiled" else code.source
         return code
 
     def _traced(self, body, exports, signature) -> CompiledCode:

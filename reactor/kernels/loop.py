@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from ..dsl.control import final_results
 from ..dsl.values import to_ir, value_class
-from ..errors import DSLTypeError, at_return_of
+from ..errors import DSLTypeError, at_return_of, return_location
 from ..ir import emitter as _em
 from ..ir import ops, x86
 from ..ir import types as T
@@ -111,6 +111,7 @@ def emit_body(module, name: str, body, ins, outs, width: int):
         if result is not None and not isinstance(result, tuple):
             result = (result,)
         with at_return_of(body):
+            em.line_override = return_location(body)  # what follows belongs to the return statement
             result = final_results(em, em.dsl_function, result)
             irs: list | None = None
             if result is not None:

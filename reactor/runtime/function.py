@@ -91,13 +91,14 @@ class Module:
             return fn
         return add(body) if body is not None else add
 
-    def build(self, build: Build) -> _em.ModuleEmitter:
-        """The module's IR: every function and its C entry point."""
+    def build(self, build: Build, lines: bool = False) -> _em.ModuleEmitter:
+        """The module's IR: every function and its C entry point (with the user's source line on
+        every instruction if ``lines``: see ``reactor.explain``)."""
         names = [f.name for f in self.functions]
         dupes = {n for n in names if names.count(n) > 1}
         if dupes:
             raise ReactorError(f"module has several functions named {', '.join(sorted(dupes))}")
-        mod = _em.ModuleEmitter(self.functions[0].name if self.functions else "module", build)
+        mod = _em.ModuleEmitter(self.functions[0].name if self.functions else "module", build, lines=lines)
         for fn in self.functions:
             irfn = fn.declare_in(mod, build.width)
             params, returns = fn.signature.resolved(build.width, f"'{fn.name}'")

@@ -1,0 +1,244 @@
+"""Explain: a kernel's or Function's code, each instruction tied to the Python line that emitted it.
+
+::
+
+    e = reactor.explain(shade)                  # a kernel (ufunc) or a Function
+    print(e.text())                             # per source line: Python, IR, assembly, cost
+    e.write_html("shade.html")                  # three linked columns and the costs, one file
+    print(e.diff(reactor.explain(shade, fma=False)).text())   # two builds, line by line
+
+The body is traced again with source lines (``ModuleEmitter(lines=True)``: every
+instruction's debug location is the user's line, and its column the group: the
+user's own code, or a routine such as ``exp2`` emitted there), compiled with the
+same settings (or those given), and read back from the optimized IR and the
+assembly (``reactor.explain.listing``). A kernel shows its vector loop: the body
+as it runs, W elements at a time; ``plumbing=True`` adds the rest (the loop
+control, the width-1 tail body, the ufunc's dispatcher). A cost model registered
+under the entry-point group ``reactor.explain_costs`` (the routines package
+registers its dataflow model) gives each line its operations by pipe, its share
+of the throughput bound and whether it is on the critical path.
+"""
+from __future__ import annotations
+
+import collections
+import dataclasses
+import typing
+
+from ..errors import ReactorError
+from .listing import Instruction, parse_asm, parse_ir, source_line
+
+__all__ = ["explain", "Explanation", "Line", "Diff"]
+
+
+@dataclasses.dataclass
+class Line:
+    """One source line (and group) of a build: its IR and machine instructions and their cost."""
+
+    file: str | None
+    line: int
+    group: str  # "" for the user's own code, else the routine's name
+    ir: list[Instruction] = dataclasses.field(default_factory=list)
+    asm: list[Instruction] = dataclasses.field(default_factory=list)
+    cost: dict = dataclasses.field(default_factory=dict)  # by the cost model: ops, slots, share, critical
+
+    @property
+    def source(self) -> str:
+        return source_line(self.file, self.line) if self.line else "(reactor: loop control, layout, tail)"
+
+    @property
+    def label(self) -> str:
+        where = f"{_short(self.file)}:{self.line}" if self.line else "plumbing"
+        return where + (f" [{self.group}]" if self.group else "")
+
+    @property
+    def key(self) -> str:
+        return f"{self.file}:{self.line}:{self.group}"
+
+
+@dataclasses.dataclass
+class Explanation:
+    """The lines of one build, in source order, with totals."""
+
+    name: str
+    settings: str
+    lines: list[Line]
+    costs: dict  # the whole region: the model's prediction (empty without a model)
+    ir_text: str
+    assembly: str
+
+    def text(self, instructions: bool = True) -> str:
+        """A terminal view: each line's Python, its IR and assembly, and its cost."""
+        out = [f"{self.name}: {self.settings}"]
+        if self.costs:
+            out.append(_costs_summary(self.costs))
+        for row in self.lines:
+            cost = _cost_text(row.cost)
+            out.append("")
+            out.append(f"{row.label:<28} {row.source.strip()}")
+            out.append(f"{'':<28} {len(row.ir)} IR, {len(row.asm)} machine instructions{cost}")
+            if instructions:
+                out.extend(f"    ir   {i.text}" for i in row.ir)
+                out.extend(f"    asm  {i.text}" for i in row.asm)
+        return "\n".join(out)
+
+    def html(self, diff: "Diff | None" = None) -> str:
+        from .html import page
+        return page(self, diff)
+
+    def write_html(self, path: str, diff: "Diff | None" = None) -> str:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.html(diff))
+        return path
+
+    def diff(self, other: "Explanation") -> "Diff":
+        """Two builds of one body, line by line (the lines whose machine code differs first)."""
+        return Diff(self, other)
+
+    def line(self, line: int, group: str = "") -> Line:
+        for row in self.lines:
+            if row.line == line and row.group == group:
+                return row
+        raise KeyError((line, group))
+
+
+class Diff:
+    """Two explanations side by side: per line, both builds' machine code."""
+
+    def __init__(self, a: Explanation, b: Explanation) -> None:
+        self.a, self.b = a, b
+        keys = list(dict.fromkeys([r.key for r in a.lines] + [r.key for r in b.lines]))
+        rows_a, rows_b = {r.key: r for r in a.lines}, {r.key: r for r in b.lines}
+        self.rows = [(rows_a.get(k), rows_b.get(k)) for k in keys]
+
+    @staticmethod
+    def _ops(row: Line | None) -> collections.Counter:
+        return collections.Counter(i.text.split()[0] for i in row.asm) if row else collections.Counter()
+
+    def changed(self) -> list[tuple[Line | None, Line | None]]:
+        return [(x, y) for x, y in self.rows if self._ops(x) != self._ops(y)]
+
+    def text(self) -> str:
+        out = [f"A: {self.a.settings}", f"B: {self.b.settings}"]
+        for x, y in self.rows:
+            row = x or y
+            assert row is not None
+            ops_a, ops_b = self._ops(x), self._ops(y)
+            mark = "  " if ops_a == ops_b else "≠ "
+            out.append(f"{mark}{row.label:<28} {row.source.strip()}")
+            if ops_a != ops_b:
+                out.append(f"      A {sum(ops_a.values()):3d}: {_op_list(ops_a)}")
+                out.append(f"      B {sum(ops_b.values()):3d}: {_op_list(ops_b)}")
+        return "\n".join(out)
+
+
+def explain(target: typing.Any, *, plumbing: bool = False, **options: typing.Any) -> Explanation:
+    """Explain a kernel (its ufunc or ``Kernel``) or a ``Function`` built with its own settings,
+    or with ``options`` (fma, precision, target, width, opt) instead."""
+    from ..jit.compiler import listing
+    from ..kernels.kernel import Kernel, kernel_of
+    from ..runtime.function import Function, Module
+
+    kern = target if isinstance(target, Kernel) else None
+    if kern is None and not isinstance(target, Function):
+        try:
+            kern = kernel_of(target)
+        except (ReactorError, TypeError):
+            raise ReactorError(f"explain takes a reactor kernel (a ufunc made by @kernel) or a Function, "
+                               f"not {target!r}") from None
+    if kern is not None:
+        if options:
+            from ..kernels.kernel import build_kernel
+            kern = kernel_of(build_kernel(kern.body, name=kern.name, **options))
+        module = kern.traced_with_lines()
+        build, name, region = kern.build, kern.name, f"{kern.name}.loop"
+    else:
+        build = target.build_settings(**options)
+        module = Module([target]).build(build, lines=True)
+        name, region = target.name, None
+    optimized, assembly = listing(module.text, build.target, build.opt)
+    assert module.lines is not None
+    groups = module.lines.groups
+    lines = _lines(parse_ir(optimized), parse_asm(assembly), groups, region, plumbing)
+    costs = _apply_costs(lines, optimized, region, build.width)
+    return Explanation(name, build.describe(), lines, costs, optimized, assembly)
+
+
+def _lines(ir_fns, asm_fns, groups, region, plumbing) -> list[Line]:
+    rows: dict[tuple, Line] = {}
+
+    def add(ins: Instruction, which: str) -> None:
+        if ins.tail and not plumbing:
+            return
+        if ins.line == 0 and not plumbing:
+            return
+        key = (ins.file, ins.line, groups[ins.group] if ins.group < len(groups) else "?")
+        row = rows.get(key)
+        if row is None:
+            row = rows[key] = Line(*key)
+        getattr(row, which).append(ins)
+
+    for fns, which in ((ir_fns, "ir"), (asm_fns, "asm")):
+        for fname, instructions in fns.items():
+            if region is not None and fname != region and not plumbing:
+                continue
+            for ins in instructions:
+                add(ins, which)
+    order = sorted(rows.values(), key=lambda r: (r.line == 0, r.file or "", r.line, groups.index(r.group)
+                                                 if r.group in groups else 99))
+    return order
+
+
+def _apply_costs(lines: list[Line], optimized: str, region: str | None, width: int) -> dict:
+    model = _cost_model()
+    if model is None or region is None:
+        return {}
+    per_instruction, summary = model(optimized, region, width)
+    by_text = collections.defaultdict(list)
+    for text, cost in per_instruction:
+        by_text[text.strip()].append(cost)
+    total = summary.get("busy", 0) or 1
+    for row in lines:
+        ops: collections.Counter = collections.Counter()
+        busy, critical = 0.0, False
+        for ins in row.ir:
+            for cost in by_text.get(ins.text.strip(), [])[:1]:
+                if cost.get("class"):
+                    ops[cost["class"]] += 1
+                    busy += cost.get("busy", 0.0)
+                critical = critical or cost.get("critical", False)
+        if ops:
+            row.cost = {"ops": dict(ops), "busy": busy, "share": busy / total, "critical": critical}
+    return summary
+
+
+def _cost_model():
+    """The registered cost model (entry-point group ``reactor.explain_costs``), or None."""
+    from importlib.metadata import entry_points
+    for ep in entry_points(group="reactor.explain_costs"):
+        try:
+            return ep.load()
+        except Exception:  # noqa: BLE001 - a broken plugin must not break explain
+            continue
+    return None
+
+
+def _short(path: str | None) -> str:
+    import os
+    return os.path.basename(path) if path else "?"
+
+
+def _op_list(ops: collections.Counter) -> str:
+    return ", ".join(f"{n} {op}" if n > 1 else op for op, n in sorted(ops.items(), key=lambda kv: (-kv[1], kv[0])))
+
+
+def _cost_text(cost: dict) -> str:
+    if not cost:
+        return ""
+    ops = ", ".join(f"{n} {c}" for c, n in sorted(cost["ops"].items(), key=lambda kv: -kv[1]))
+    return f"; {ops}; {cost['share']:.0%} of the work{'; on the critical path' if cost['critical'] else ''}"
+
+
+def _costs_summary(costs: dict) -> str:
+    return (f"model ({costs.get('machine', '?')}): {costs.get('ops', 0)} operations a vector, throughput bound "
+            f"{costs.get('bound', 0):.2f} cycles a vector ({costs.get('bottleneck', '?')}), critical path "
+            f"{costs.get('critical_path', 0):.0f} cycles")
