@@ -5,9 +5,10 @@
 ``routines.exp2`` is a builder: called inside a ``@reactor.function`` it emits
 inline IR. The same body is built twice, with ``fma=True`` and ``fma=False``;
 ``MulAdd`` in the polynomial becomes ``llvm.fma`` (one rounding, VFMADD) or
-``fmul`` + ``fadd`` (two roundings, VMULPS + VADDPS). The example prints the
-IR and the assembly of both builds, a diff of each that points at the lines
-that differ, counts FMA instructions in the ready-made ufuncs
+``fmul`` + ``fadd`` (two roundings, VMULPS + VADDPS). The example shows both
+builds through ``reactor.explain`` (each source line with its IR and assembly,
+the routine as its own group), their diff line by line, and an HTML page with
+the three linked columns (``inspect_ir.html``); it counts FMA instructions in the ready-made ufuncs
 (``routines.jit("exp2", fma=...)``), and measures what the fused rounding
 buys in accuracy. Last, it shows how to dump any routine of your own, from
 Python and from the command line. The figure puts the two assemblies side by
@@ -40,12 +41,11 @@ def highlight(n_dot_h: SIMD.Float, shininess: SIMD.Float) -> SIMD.Float:
     return routines.pow(n_dot_h, shininess, precision="relaxed") * 0.8
 
 
-def build_exp2(fma: bool, width: int | None):
-    """exp2 in full precision as a compiled Function of one SIMD vector, FMA on or off. Both
-    builds have the same name so that their texts differ only where the code does."""
+def build_exp2(width: int | None):
+    """exp2 in full precision as a Function of one SIMD vector (explain builds it twice)."""
     def exp2(x: SIMD.Float) -> SIMD.Float:
         return routines.exp2(x, precision="full")
-    return reactor.function(exp2, fma=fma, width=width).compile()
+    return reactor.function(exp2, width=width)
 
 
 def function_body(asm: str, name: str) -> list[str]:
@@ -61,11 +61,6 @@ def function_body(asm: str, name: str) -> list[str]:
     return body
 
 
-def diff(a: str, b: str, a_name: str, b_name: str) -> list[str]:
-    """A unified diff of two listings (no context lines): the lines that differ, with line numbers."""
-    return [line for line in difflib.unified_diff(a.splitlines(), b.splitlines(), a_name, b_name, n=0, lineterm="")]
-
-
 def count(pattern: str, text: str) -> int:
     return len(re.findall(pattern, text, flags=re.MULTILINE))
 
@@ -77,39 +72,38 @@ def ulp_errors(kernel, x: np.ndarray) -> np.ndarray:
     return np.abs(kernel(x).astype(np.float64) - ref) / ulp
 
 
-def run(width: int | None = 4, quiet: bool = False) -> dict:
+def run(width: int | None = 4, quiet: bool = False, out: str | None = None) -> dict:
     say = (lambda *a, **k: None) if quiet else print
-    builds = {fma: build_exp2(fma, width) for fma in (True, False)}
-    on, off = builds[True], builds[False]
+    function = build_exp2(width)
     w = width or "natural"
+    # reactor.explain: the code of each source line (and of each routine called there), per build
+    on, off = reactor.explain(function, fma=True), reactor.explain(function, fma=False)
+    changes = on.diff(off)
 
-    say(f"=== exp2 (full precision, width {w}), FMA on: LLVM IR as built ===")
-    say(on.ir)
-    say("=== exp2, FMA off: LLVM IR as built ===")
-    say(off.ir)
-    ir_diff = diff(on.ir, off.ir, "exp2 (FMA on)", "exp2 (FMA off)")
-    say("=== the IR lines that differ (- FMA on, + FMA off; @@ -line,count +line,count @@) ===")
-    say("\n".join(ir_diff))
+    say(f"=== exp2 (full precision, width {w}), FMA on: each line's IR and assembly ===")
+    say(on.text())
+    say("=== FMA off ===")
+    say(off.text())
+    say("=== the two builds line by line (≠: the machine code differs) ===")
+    say(changes.text())
+    if out:
+        page = on.write_html(os.path.join(out, "inspect_ir.html"), changes)
+        say(f"wrote {page} (three linked columns: hover a line to see its instructions)")
 
-    say("=== exp2, FMA on: assembly ===")
-    say(on.assembly)
-    say("=== exp2, FMA off: assembly ===")
-    say(off.assembly)
-    asm_diff = diff(on.assembly, off.assembly, "exp2 (FMA on)", "exp2 (FMA off)")
-    say("=== the assembly lines that differ ===")
-    say("\n".join(asm_diff))
-
-    body_on, body_off = function_body(on.assembly, "exp2"), function_body(off.assembly, "exp2")
+    body_on = [i.text for row in on.lines for i in row.asm]
+    body_off = [i.text for row in off.lines for i in row.asm]
+    ir_on, ir_off = "\n".join(i.text for r in on.lines for i in r.ir), "\n".join(i.text for r in off.lines for i in r.ir)
     fma_re = r"^\s*vfn?m(add|sub)\w*"
     fma_call = r"call .*@\"?llvm\.fma\."
     results = {
-        "ir_fma_calls": {"on": count(fma_call, on.ir), "off": count(fma_call, off.ir)},
-        "ir_lines_differing": sum(1 for line in ir_diff if line[:1] in "+-" and line[:3] not in ("+++", "---")),
+        "ir_fma_calls": {"on": count(fma_call, ir_on), "off": count(fma_call, ir_off)},
+        "ir_lines_differing": len(changes.changed()),
         "asm_instructions": {"on": len(body_on), "off": len(body_off)},
         "asm_fma": {"on": count(fma_re, "\n".join(body_on)), "off": count(fma_re, "\n".join(body_off))},
         "asm_mul_add": {k: (count(r"^vmulps", "\n".join(b)), count(r"^vaddps", "\n".join(b)))
                         for k, b in (("on", body_on), ("off", body_off))},
         "body": {"on": body_on, "off": body_off},
+        "changed_lines": [(x or y).label for x, y in changes.changed()],
     }
 
     # the ready-made ufuncs: the same two variants as the library ships them
@@ -126,7 +120,8 @@ def run(width: int | None = 4, quiet: bool = False) -> dict:
 
     print("=== summary ===")
     print(f"IR: {results['ir_fma_calls']['on']} llvm.fma calls with FMA on, {results['ir_fma_calls']['off']} "
-        f"with FMA off; {results['ir_lines_differing']} IR lines differ.")
+        f"with FMA off; the code of {results['ir_lines_differing']} line(s) differs: "
+        f"{', '.join(results['changed_lines'])}.")
     print(f"assembly of exp2: {len(body_on)} instructions with FMA "
         f"({results['asm_fma']['on']} vfmadd), {len(body_off)} without "
         f"({results['asm_fma']['off']} vfmadd, {results['asm_mul_add']['off'][0]} vmulps + "
@@ -208,8 +203,8 @@ def main(argv=None) -> dict:
                         help="SIMD width of the printed builds (4 keeps the IR readable; 0: the target's)")
     parser.add_argument("--quiet", action="store_true", help="print the summary only, not the listings")
     args = parser.parse_args(argv)
-    r = run(width=args.width or None, quiet=args.quiet)
     os.makedirs(args.out, exist_ok=True)
+    r = run(width=args.width or None, quiet=args.quiet, out=args.out)
     path = os.path.join(args.out, "inspect_ir.png")
     save_figure(r, path)
     print(f"wrote {path}")
