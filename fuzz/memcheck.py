@@ -59,7 +59,10 @@ def _reactor_state() -> _State:
     from reactor.jit import cache
     from reactor.jit.compiler import CompiledCode
     from reactor.kernels import kernel as kernel_module
-    return _State(sum(1 for o in gc.get_objects() if isinstance(o, CompiledCode)), len(kernel_module._registry),
+    # type(o), not isinstance(o, ...): isinstance on a dead weakref.proxy (any library may leave one
+    # in the heap) raises ReferenceError, type() does not.
+    compiled = sum(1 for o in gc.get_objects() if issubclass(type(o), CompiledCode))
+    return _State(compiled, len(kernel_module._registry),
                   len(cache._memory), cache.MEMORY_ENTRIES)
 
 
