@@ -294,10 +294,28 @@ def _wrap(em, mode: str, i, n, vt: VType):
 
 
 def _floor_mod(em, vt, i, n):
-    """``i mod n`` in [0, n) (n > 0; n = 0 gives 0, and no lane reads then)."""
-    r = ops.binary(em, "rem", vt, i, n)
-    negative = ops.compare(em, vt, "lt", r, T.const(vt, 0))
-    return em.select(negative, ops.binary(em, "add", vt, r, n), r, name="mod")
+    """``i mod n`` in [0, n) (n > 0; n = 0 gives 0, and no lane reads then).
+
+    x86 has no vector integer division (a vector ``srem`` is one scalar ``idiv`` per lane), so
+    for 32-bit coordinates the quotient is ``floor(i * (1/n))`` in double. The inputs are exact and
+    the product's relative error is below 2^-52, with |i|, n < 2^31: where i/n is not an integer it
+    is at least 1/n from one, further than the error, so the floor is right; where i = k n it
+    may round just below k (n = 2366, i = 2366 gives 0). So the quotient is the true one or one
+    less, and one compare-select (remainder >= n: subtract n) makes the remainder exact."""
+    if vt.kind.bits > 32:
+        r = ops.binary(em, "rem", vt, i, n)
+        negative = ops.compare(em, vt, "lt", r, T.const(vt, 0))
+        return em.select(negative, ops.binary(em, "add", vt, r, n), r, name="mod")
+    dt, wide = vt.with_kind("Double"), vt.with_kind(T.INDEX_KIND)
+    zero = T.const(vt, 0)
+    n = em.select(ops.compare(em, vt, "eq", n, zero), T.const(vt, 1), n, name="period")  # n = 0: i mod 1
+    inverse = em.fdiv(T.const(dt, 1.0), ops.convert(em, vt, dt, n), name="period.inverse")
+    quotient = ops.unary(em, "floor", dt, em.fmul(ops.convert(em, vt, dt, i), inverse, name="quotient"))
+    q = ops.convert(em, dt, wide, quotient, saturate=False)  # |quotient| <= 2^31: always in range
+    i64, n64 = ops.convert(em, vt, wide, i), ops.convert(em, vt, wide, n)
+    r = ops.binary(em, "sub", wide, i64, ops.binary(em, "mul", wide, q, n64))
+    r = em.select(ops.compare(em, wide, "ge", r, n64), ops.binary(em, "sub", wide, r, n64), r, name="mod.down")
+    return ops.convert(em, wide, vt, r)
 
 
 def _normalized(v: Value) -> Value:

@@ -209,10 +209,29 @@ def convert(em, src: VType, dst: VType, value, *, rounding: str = "trunc", satur
     elif rounding != "trunc":
         raise ValueError(f"rounding must be 'trunc' or 'nearest', not {rounding!r}")
     if saturate:
-        base = "llvm.fptosi.sat" if d.signed else "llvm.fptoui.sat"
-        fn = em.intrinsic(f"{base}.{dst.mangle()}.{src.mangle()}", dst.ir, [src.ir])
-        return em.call(fn, [value], name=name)
+        return _saturating_to_int(em, src, dst, value, name)
     return em.freeze(em.convert("fptosi" if d.signed else "fptoui", value, dst, name=name), name=name)
+
+
+def _saturating_to_int(em, src: VType, dst: VType, value, name: str):
+    """``llvm.fpto[su]i.sat`` spelled out in vector operations: NaN gives 0, values beyond the
+    range its ends. (LLVM lowers the intrinsic on vectors to one scalar conversion and two
+    compares per lane on x86.) The bounds -2^(b-1) and 2^(b-1) (unsigned: 0 and 2^b) are exact
+    in every float kind, so the compares are exact."""
+    d = dst.kind
+    if src.kind.bits < 32:  # Half: its range ends short of the bounds (they would be infinities)
+        wider = src.with_kind("Float")
+        return _saturating_to_int(em, wider, dst, em.convert("fpext", value, wider, name=f"{name}.f32"), name)
+    lo, hi = (-(2.0 ** (d.bits - 1)), 2.0 ** (d.bits - 1)) if d.signed else (0.0, 2.0 ** d.bits)
+    top = 2 ** (d.bits - 1) - 1 if d.signed else 2 ** d.bits - 1
+    above = em.fcmp(">=", value, const(src, hi), ordered=True, name=f"{name}.above")
+    inside = em.fcmp(">", value, const(src, lo), ordered=True, name=f"{name}.inside")  # false for NaN
+    low = const(src, lo) if d.signed else const(src, 0.0)
+    safe = em.select(inside, em.select(above, low, value, name=f"{name}.safe"), low, name=f"{name}.safe")
+    converted = em.convert("fptosi" if d.signed else "fptoui", safe, dst, name=name)
+    nan = em.fcmp("!=", value, value, ordered=False, name=f"{name}.nan")
+    converted = em.select(nan, const(dst, 0), converted, name=name)
+    return em.select(above, const(dst, top), converted, name=name)
 
 
 def lrint(em, src: VType, dst: VType, value):

@@ -434,3 +434,32 @@ def test_vector_arguments_and_results(width):
     got = fn(x, k, 0.5)
     assert isinstance(got, np.ndarray) and got.shape == (width,) and got.dtype == np.float32
     assert_bits_equal(got, x * np.float32(0.5) + k.astype(np.float32))
+
+
+@pytest.mark.parametrize("src", ["Float", "Double", "Half"])
+@pytest.mark.parametrize("dst", ["Int", "UInt", "UByte", "UShort"])
+def test_saturating_conversions_at_the_range_ends(src, dst):
+    """Float -> integer conversions saturate (NaN -> 0) in vector code, at and next to each bound."""
+    import reactor
+    from reactor import kernel
+
+    dtype = {"Float": np.float32, "Double": np.float64, "Half": np.float16}[src]
+    info = np.iinfo({"Int": np.int32, "UInt": np.uint32, "UByte": np.uint8, "UShort": np.uint16}[dst])
+    ends = [info.min, info.max, info.max + 1, info.min - 1, -0.5, 0.5, -1, 255.9, 65535.5, 2**31 - 128,
+            -2**31 - 256, 2**32 - 256, 1e30, -1e30, np.inf, -np.inf, np.nan]
+    rng = np.random.default_rng(7)
+    with np.errstate(all="ignore"):
+        x = np.concatenate([np.array(ends, np.float64).astype(dtype), np.nextafter(
+            np.array(ends, dtype), dtype(np.inf)), np.nextafter(np.array(ends, dtype), dtype(-np.inf)),
+            (rng.standard_normal(5000) * 2.0 ** rng.integers(0, 40, 5000)).astype(dtype)])
+    kind_in, kind_out = getattr(reactor, src), getattr(reactor, dst)
+
+    @kernel
+    def convert(a: kind_in) -> kind_out:
+        return kind_out(a)
+
+    with np.errstate(all="ignore"):
+        wide = x.astype(np.float64)
+        expected = np.where(np.isnan(wide), 0, np.clip(np.trunc(np.nan_to_num(wide, posinf=1e300, neginf=-1e300)),
+                                                        info.min, info.max)).astype(info.dtype)
+    np.testing.assert_array_equal(convert(x), expected)

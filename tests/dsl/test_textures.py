@@ -47,6 +47,26 @@ def test_table_lookup_per_lane_follows_the_wrap_mode(mode):
     assert look(np.int32(3), table) == table[3]
 
 
+@pytest.mark.parametrize("mode", ["repeat", "mirror"])
+@pytest.mark.parametrize("n", [1, 3, 7, 2366, 3746, 4884, 65537, 3_000_017])
+def test_wraps_are_exact_over_the_whole_int_range(mode, n):
+    """The wraps compute the quotient in double (no vector integer division): exact for every
+    Int coordinate and table length, including the ends of the range and exact multiples (where
+    the double quotient can fall one short: 2366, 3746 and 4884 have such
+    multiples, found by search)."""
+    @kernel
+    def look(i: Int, t: Table[Int, mode]) -> Int:
+        return t[i]
+
+    table = np.arange(n, dtype=np.int32)
+    rng = np.random.default_rng(n)
+    k = rng.integers(-2**31 // (2 * n), 2**31 // (2 * n), 4000)
+    i = np.concatenate([rng.integers(-2**31, 2**31, 20000), k * n, k * n - 1, k * n + 1, 2 * k * n,
+                        2 * k * n - 1, [-2**31, -2**31 + 1, 2**31 - 1, 2**31 - 2, 0, -1]])
+    i = np.clip(i, -2**31, 2**31 - 1).astype(np.int32)
+    np.testing.assert_array_equal(look(i, table), table[wrap(i, n, mode)[0]])
+
+
 def test_table_of_each_kind_returns_that_kind():
     @kernel
     def look(i: Int, a: Table[Int], b: Table[reactor.UByte], c: Table[vec3]) -> (Int, Int, Float):
