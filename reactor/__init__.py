@@ -8,7 +8,7 @@ functions called from Python) and ``kernels`` (compiled loops as NumPy ufuncs).
 """
 import typing as _typing
 
-from .build import Build, BuildOptions, Precision, options
+from .build import Build, BuildOptions, Precision, Site, options
 from .dsl.control import Break, Continue, Elif, Else, For, If, Return, While
 from .dsl.external import External
 from .dsl.intrinsics import (
@@ -17,7 +17,7 @@ from .dsl.intrinsics import (
     RsqrtApprox, ScaleF, Select, Significand, ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc,
     build_settings, fma_mode, precision, target_features,
 )
-from .dsl.calls import RoutineCall, routine_call
+from .dsl.calls import RoutineCall, routine_call, site_choice
 from .dsl.inline import inline
 from .dsl.signature import SIMD, Pointer
 from .dsl.textures import ConstantTable, Table, Texture2D, Texture3D
@@ -34,6 +34,7 @@ from .errors import (
 from .ir.types import KINDS, WIDTHS
 from .kernels.kernel import Kernel, kernel, kernel_of
 from .explain import explain
+from .planner import Plan, PlanStaleError, Range, Rows, plan
 from .kernels.parallel import configure as configure_threads, settings as thread_settings
 from .runtime.function import Function, Library, Module, Routine, function
 from .targets import TARGETS, Target, get_target
@@ -58,7 +59,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     # build settings and targets
-    "Build", "BuildOptions", "Precision", "options", "build_settings", "fma_mode", "precision", "target_features",
+    "Build", "BuildOptions", "Precision", "Site", "options", "build_settings", "fma_mode", "precision", "target_features",
     "Target", "TARGETS", "get_target", "WIDTHS", "KINDS",
     # values, types, variables, pointers
     "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable", "set_power",
@@ -77,7 +78,8 @@ __all__ = [
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
     "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of",
-    "configure_threads", "thread_settings", "RoutineCall", "routine_call", "explain",
+    "configure_threads", "thread_settings", "RoutineCall", "routine_call", "site_choice", "explain",
+    "plan", "Plan", "PlanStaleError", "Range", "Rows",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
     "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",

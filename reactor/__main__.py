@@ -1,5 +1,6 @@
 """``python -m reactor dump TARGET [--what ir|opt|asm] [--fma on|off] [--width N] [--target T]``,
-``python -m reactor explain TARGET [--html OUT] [--diff fma=off] [--plumbing]``
+``python -m reactor explain TARGET [--html OUT] [--diff fma=off] [--plumbing]``,
+``python -m reactor plan TARGET --input NAME=DOMAIN ... [--output unorm8] [--save PLAN.json]``
 
 TARGET names what to print:
   FILE.py:NAME           a Function or @kernel ufunc defined in a user's file
@@ -29,6 +30,22 @@ EXPLAIN_EXAMPLES = ("python -m reactor explain examples/custom_routine.py:fallof
                     "python -m reactor explain examples/custom_routine.py:falloff --diff fma=off --html falloff.html")
 
 
+PLAN = """python -m reactor plan TARGET --input NAME=DOMAIN ... [--output FORMAT] [--save PLAN.json]
+
+For every routine call site of a kernel (file:line; built-ins such as normalize count
+through the routines they call), the cheapest precision tier that leaves the kernel's
+output, stored in FORMAT, identical to the all-most-accurate build's on every input of
+the declared domain: exhaustively when the domain can be enumerated, else on a sample
+searched around its riskiest inputs (the plan says which).
+DOMAIN: unorm8, unorm10, unorm16, float16 (every value of the format), LO:HI (a range,
+sampled), or V1,V2,... (values). FORMAT: unorm8, unorm10, unorm16, float16, float32,
+ulp:N or abs:E (a tolerance). Tables and textures cannot be declared here: use
+reactor.plan() from Python."""
+PLAN_EXAMPLES = ("python -m reactor plan examples/plan/scenes.py:srgb_blit --input c=unorm8",
+                 "python -m reactor plan examples/plan/scenes.py:exposure --input x=float16 --input stops=-2,-1,0,1,2 "
+                 "--output unorm8 --save exposure.plan.json")
+
+
 def _parser() -> ArgumentParser:
     parser = ArgumentParser(prog="python -m reactor", description=__doc__, examples=EXAMPLES)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -47,7 +64,61 @@ def _parser() -> ArgumentParser:
     explain.add_argument("--brief", action="store_true", help="per line totals only, no instructions")
     add_build_arguments(explain)
     explain.add_argument("--precision", help="full, relaxed (or GLSL's highp, mediump)")
+    plan = sub.add_parser("plan", help="the cheapest precision per call site that changes no output",
+                          description=PLAN, examples=PLAN_EXAMPLES)
+    plan.add_argument("target", help="FILE.py:NAME or package.module:NAME (a @kernel ufunc)")
+    plan.add_argument("--input", action="append", default=[], metavar="NAME=DOMAIN", help="an input's domain")
+    plan.add_argument("--output", default="unorm8", metavar="FORMAT", help="what the scene stores (unorm8)")
+    plan.add_argument("--samples", type=int, default=1 << 18, metavar="N", help="rows of a sampled check")
+    plan.add_argument("--save", metavar="FILE", help="write the plan as JSON (reactor.Plan.load reads it)")
+    plan.add_argument("--verbose", action="store_true", help="each build of the search as it is made")
     return parser
+
+
+def _domain(text: str):
+    from .planner import Range
+    from .planner.domains import UNORM_BITS
+    if text in UNORM_BITS or text == "float16":
+        return text
+    try:
+        if ":" in text:
+            lo, hi = text.split(":", 1)
+            return Range(float(lo), float(hi))
+        return [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ReactorError(f"--input: a domain is unorm8, unorm10, unorm16, float16, LO:HI or V1,V2,..., "
+                           f"not {text!r}") from None
+
+
+def _output(text: str):
+    if ":" in text:
+        kind, _, bound = text.partition(":")
+        try:
+            if kind in ("ulp", "abs"):
+                return {kind: float(bound)}
+        except ValueError:
+            pass
+        raise ReactorError(f"--output: a tolerance is ulp:N or abs:E, not {text!r}")
+    return text
+
+
+def _plan(args) -> int:
+    from .planner import plan
+    inputs = {}
+    for spec in args.input:
+        name, eq, domain = spec.partition("=")
+        if not eq or not name:
+            raise ReactorError(f"--input takes NAME=DOMAIN (x=unorm8, k=0.5,1,2, t=0:1), not {spec!r}")
+        inputs[name] = _domain(domain)
+    if args.samples < 1:
+        raise ReactorError(f"--samples must be at least 1, not {args.samples}")
+    result = plan(load(args.target), inputs=inputs, output=_output(args.output), samples=args.samples,
+                  progress=args.verbose)
+    print(result)
+    if args.save:
+        result.save(args.save)
+        print(f"wrote {args.save}")
+    return 0
 
 
 def _diff_options(specs: list[str]) -> dict:
@@ -92,6 +163,8 @@ def _main(argv: list[str]) -> int:
     args = _parser().parse_args(argv)
     if args.command == "explain":
         return _explain(args)
+    if args.command == "plan":
+        return _plan(args)
     with options(**build_options(args)):
         print(text(load(args.target), args.what))
     return 0

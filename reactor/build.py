@@ -51,6 +51,37 @@ class Precision(str, enum.Enum):
 _GLSL_QUALIFIERS = {"highp": "full", "mediump": "relaxed", "lowp": "relaxed"}
 
 
+@dataclasses.dataclass(frozen=True, order=True)
+class Site:
+    """One routine call site's settings, chosen by a plan (``reactor.plan``): the routine
+    ``routine`` emitted from the user's line ``where`` ("file:line", as ``RoutineCall.where``)
+    is built at ``precision`` with FMA ``fma`` (None: the build's), whatever the build's or
+    the call's own setting."""
+
+    where: str
+    routine: str
+    precision: str
+    fma: bool | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "precision", Precision.of(self.precision).value)
+
+
+def _sites(value) -> tuple[Site, ...]:
+    """The ``sites`` option as a sorted tuple of Site (from Sites, (where, routine, precision[, fma])
+    tuples, or anything with a ``sites`` attribute, such as a Plan)."""
+    value = getattr(value, "sites", value)
+    try:
+        sites = tuple(v if isinstance(v, Site) else Site(*v) for v in value)
+    except (TypeError, ValueError) as exc:
+        raise ReactorError(f"sites must be Site objects or (where, routine, precision[, fma]) tuples: {exc}") \
+            from None
+    seen = {(s.where, s.routine) for s in sites}
+    if len(seen) != len(sites):
+        raise ReactorError("sites: one call site (where, routine) is given two settings")
+    return tuple(sorted(sites))
+
+
 @dataclasses.dataclass(frozen=True)
 class BuildOptions:
     """The options a user gives (None: the context's or the target's default).
@@ -63,6 +94,8 @@ class BuildOptions:
     target:    a name from ``reactor.TARGETS`` ("host", "avx512", "avx2", "sse4").
     cache:     use the on-disk object cache.
     precision: the default precision of the math built-ins ("full", "relaxed").
+    sites:     per call site settings (``Site``; a ``reactor.plan`` Plan): they win over the
+               build's and the call's own precision and FMA at that site.
     """
 
     fma: bool | None = None
@@ -71,6 +104,7 @@ class BuildOptions:
     target: str | None = None
     cache: bool | None = None
     precision: str | None = None
+    sites: typing.Any = None
 
     def merged(self, **overrides: typing.Any) -> "BuildOptions":
         given = {k: v for k, v in overrides.items() if v is not None}
@@ -91,7 +125,8 @@ class BuildOptions:
             raise ReactorError(f"optimization level must be 0..3, not {opt!r}")
         fma = target.has_fma if self.fma is None else bool(self.fma)
         precision = Precision.of(self.precision or Precision.FULL)
-        return Build(target, width, fma, opt, True if self.cache is None else bool(self.cache), precision)
+        return Build(target, width, fma, opt, True if self.cache is None else bool(self.cache), precision,
+                     _sites(self.sites) if self.sites is not None else ())
 
 
 @dataclasses.dataclass(frozen=True)
@@ -104,6 +139,7 @@ class Build:
     opt: int
     cache: bool
     precision: Precision
+    sites: tuple[Site, ...] = ()  # per call site settings (a plan's)
 
     def replace(self, **changes: typing.Any) -> "Build":
         if "precision" in changes:
@@ -112,12 +148,20 @@ class Build:
 
     def key(self) -> tuple:
         """What distinguishes two builds' code (hashable; the target by its key)."""
-        return (self.target.key(), self.target.name, self.width, self.fma, self.opt, self.precision.value)
+        key = (self.target.key(), self.target.name, self.width, self.fma, self.opt, self.precision.value)
+        return key + (tuple(dataclasses.astuple(s) for s in self.sites),) if self.sites else key
+
+    def site(self, routine: str, where: str) -> Site | None:
+        """The settings chosen for ``routine`` called from ``where`` (None: the build's own)."""
+        for s in self.sites:
+            if s.routine == routine and s.where == where:
+                return s
+        return None
 
     def describe(self) -> str:
         """``target=avx512 width=16 fma=on precision=full``."""
         return (f"target={self.target.name} width={self.width} fma={'on' if self.fma else 'off'} "
-                f"precision={self.precision.value}")
+                f"precision={self.precision.value}" + (f" sites={len(self.sites)}" if self.sites else ""))
 
 
 _state = threading.local()

@@ -5,7 +5,8 @@ a reactor Function or kernel is being built. It takes a Float value of any
 width (or a Python number), emits inline IR and returns a Float of the same
 width. ``precision=None`` follows the enclosing build (``reactor.precision``
 blocks, the kernel's ``precision=`` option; "full" by default) and ``fma=None``
-keeps the enclosing build's FMA setting.
+keeps the enclosing build's FMA setting. A build's ``sites`` (a ``reactor.plan``
+Plan) override both at the call sites they name.
 """
 from __future__ import annotations
 
@@ -50,6 +51,9 @@ def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
     @functools.wraps(fn)
     def build(*args: typing.Any, precision: typing.Any = None, fma: bool | None = None,
               **kwargs: typing.Any) -> Value:
+        chosen = reactor.site_choice(fn.__name__)  # a plan's choice for this call site wins
+        if chosen is not None:
+            precision, fma = chosen.precision, chosen.fma if chosen.fma is not None else fma
         level = check_precision(precision, fn.__name__)
         with fma_mode(fma), reactor.precision(level), reactor.routine_call(fn.__name__):
             return fn(*args, precision=level, **kwargs)

@@ -42,8 +42,7 @@ def routine_call(name: str) -> typing.Iterator[None]:
     depth = module.routine_depth
     if depth == 0:
         settings = em.settings
-        loc = user_location()
-        call = RoutineCall(name, settings.precision.value, settings.fma, f"{loc[0]}:{loc[1]}" if loc else "")
+        call = RoutineCall(name, settings.precision.value, settings.fma, where_called())
         if call not in module.routine_calls:
             module.routine_calls.append(call)
     module.routine_depth = depth + 1
@@ -55,6 +54,23 @@ def routine_call(name: str) -> typing.Iterator[None]:
     finally:
         module.routine_depth = depth
         module.routine_name = outer
+
+
+def where_called() -> str:
+    """The user's "file:line" being built (what ``RoutineCall.where`` and a ``Site`` name)."""
+    loc = user_location()
+    return f"{loc[0]}:{loc[1]}" if loc else ""
+
+
+def site_choice(name: str):
+    """The ``Site`` a plan chose for routine ``name`` called from the user's current line, or
+    None (not building, inside another routine, or no choice for this site)."""
+    if not _em.building():
+        return None
+    em = _em.current()
+    if em.module.routine_depth or not em.settings.sites:
+        return None
+    return em.settings.site(name, where_called())
 
 
 def calls_of(module) -> list[RoutineCall]:

@@ -70,8 +70,8 @@ class Kernel(ShowsCode):
     routines: "list[RoutineCall]"
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
-        self.name, self.build = name, build
-        self.body = body  # traced again by reactor.explain (with source lines)
+        self.name, self.build, self.signature = name, build, signature
+        self.body = body  # traced again by reactor.explain (with source lines) and reactor.plan
         ins, outs = _operands(signature, name)
         self.ins, self.outs = ins, outs
         self.in_kinds, self.out_kinds = [o.kind for o in ins], [o.kind for o in outs]

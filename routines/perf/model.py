@@ -289,3 +289,9 @@ def predict_kernel(ufunc, machine=ZEN4) -> Prediction:
     from reactor import kernel_of
     kern = kernel_of(ufunc)
     return predict(kern.optimized_ir, f"{kern.name}.loop", kern.build.width, machine)
+
+
+def kernel_cycles(kern, machine=ZEN4) -> float:
+    """Cycles per element of a ``reactor.Kernel``'s vector loop: the cost ``reactor.plan`` ranks
+    builds by (registered as the entry point ``reactor.kernel_costs``)."""
+    return predict(kern.optimized_ir, f"{kern.name}.loop", kern.build.width, machine).cycles_per_element

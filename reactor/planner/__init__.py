@@ -1,0 +1,238 @@
+"""``reactor.plan``: each routine call site's cheapest tier that leaves a scene's output unchanged.
+
+    plan = reactor.plan(shade, inputs={"x": "unorm8", "k": Range(0.5, 4.0)}, output="unorm8")
+    print(plan)                 # per call site: tier, the tier below and what it changes, cost
+    fast = plan.ufunc           # the planned kernel (the same body, built with plan.sites)
+    plan.save("shade.plan.json")
+    fast = reactor.Plan.load("shade.plan.json").apply(shade)   # no re-planning; refused if the
+                                                               # kernel changed since
+``inputs``: a domain per element input (``domains.py``: formats, values, ranges, joint rows)
+and the arrays of table and texture parameters; ``output``: what the scene stores
+(``outputs.py``). The proof is **exhaustive** when the domain can be enumerated (at most
+``max_rows`` rows), else a **sample** sharpened around its riskiest rows and re-checked on a
+fresh sample; ``plan.proof`` says which. How the search goes: ``search.py``. The plan and its
+figures as data: ``plan.to_json()``; ``python -m reactor plan FILE.py:NAME`` on the command line.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import linecache
+import time
+import typing
+
+import numpy as np
+
+from ..build import Site
+from ..errors import ReactorError
+from .domains import MAX_ROWS, Range, Rows
+from .outputs import Output
+from .search import TIERS, Search, _short
+
+__all__ = ["plan", "Plan", "Range", "Rows", "PlanStaleError"]
+
+
+class PlanStaleError(ReactorError):
+    """A saved plan does not fit the kernel any more (its body or a planned line changed)."""
+
+
+@dataclasses.dataclass
+class SiteReport:
+    """One call site in a plan."""
+
+    where: str
+    routine: str
+    tier: str
+    below: str | None  # the next cheaper tier (None: the chosen one is the cheapest)
+    below_changes: int | None  # outputs changed with this site at ``below`` (the rest as planned)
+    below_example: dict | None  # one input row that shows it
+    saving: float  # modelled cycles per element saved against the reference at this site alone
+
+    def text(self) -> str:
+        head = f"{self.routine:<6} {_short(self.where):<22} {self.tier:<8}"
+        if self.below is None:
+            return head + "  (the cheapest tier)"
+        example = ""
+        if self.below_example:
+            example = "  e.g. " + ", ".join(f"{k}={_fmt(v)}" for k, v in self.below_example.items())
+        return head + f"  {self.below}: changes {self.below_changes:,}{example}"
+
+
+@dataclasses.dataclass
+class Plan:
+    """A kernel's plan: ``sites`` (build option), per-site reports, the proof and the figures."""
+
+    kernel: str
+    sites: tuple
+    reports: list
+    output: typing.Any
+    proof: str  # "exhaustive" or "sample"
+    checked: int  # rows the final plan was checked on (both samples for a sampled proof)
+    domain: str
+    fingerprint: str
+    cycles: dict  # label -> modelled cycles per element ("plan", "all relaxed", "all full", ...)
+    changes: dict  # label -> outputs changed against the reference, on the check rows
+    times_ms: dict  # label -> best time of one call on the timing rows (same run)
+    timing_rows: int
+    seconds: float  # planning time
+    builds: int
+    ufunc: typing.Any = dataclasses.field(default=None, repr=False, compare=False)
+
+    # -- reading ------------------------------------------------------------------------
+    def __str__(self) -> str:
+        lines = [f"plan for {self.kernel}: output {Output(self.output).name}, {self.proof} over {self.domain}",
+                 f"  ({self.checked:,} rows checked; {self.builds} builds, {self.seconds:.1f} s)"]
+        lines.append(f"  {'site':<6} {'':<22} {'tier':<8}  the tier below")
+        lines += ["  " + r.text() for r in self.reports]
+        lines.append(f"  {'build':<14} {'changes':>9} {'cycles/el':>10} {'ms':>9}")
+        for label in self.cycles:
+            ms = self.times_ms.get(label)
+            lines.append(f"  {label:<14} {self.changes.get(label, 0):>9,} {self.cycles[label]:>10.2f} "
+                         f"{'' if ms is None else f'{ms:9.3f}'}")
+        ref = self.times_ms.get(f"all {TIERS[-1]}")
+        if ref and self.times_ms.get("plan"):
+            lines.append(f"  plan: {ref / self.times_ms['plan']:.2f}x the speed of all {TIERS[-1]} "
+                         f"({self.timing_rows:,} elements, same run)")
+        return "\n".join(lines)
+
+    def to_json(self) -> dict:
+        """The plan as data (what ``save`` writes)."""
+        data = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "ufunc"}
+        data["sites"] = [dataclasses.astuple(s) for s in self.sites]
+        data["reports"] = [dataclasses.asdict(r) for r in self.reports]
+        return data
+
+    # -- keeping ------------------------------------------------------------------------
+    def save(self, path: str) -> None:
+        """Write the plan as JSON (``Plan.load`` reads it back)."""
+        with open(path, "w") as f:
+            json.dump(self.to_json(), f, indent=1, default=_plain)
+
+    @classmethod
+    def load(cls, path: str) -> "Plan":
+        with open(path) as f:
+            data = json.load(f)
+        data["sites"] = tuple(Site(*s) for s in data["sites"])
+        data["reports"] = [SiteReport(**r) for r in data["reports"]]
+        return cls(**data)
+
+    def apply(self, ufunc):
+        """The kernel ``ufunc`` built with this plan's sites, after checking that the plan was
+        made for it as it is now (same reference code, same source at every planned line);
+        ``PlanStaleError`` otherwise (plan again)."""
+        from .. import kernel_of
+        from ..kernels.kernel import build_kernel
+        k = kernel_of(ufunc)
+        reference = _rebuild(k, build_kernel, (), TIERS[-1])
+        now = fingerprint(kernel_of(reference), self.sites)
+        if now != self.fingerprint:
+            raise PlanStaleError(f"the plan for '{self.kernel}' was made for other code: the kernel or a "
+                                 f"planned line changed since; run reactor.plan again")
+        self.ufunc = _rebuild(k, build_kernel, self.sites, TIERS[-1])
+        return self.ufunc
+
+
+def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1 << 18, seed: int = 0,
+         max_rows: int = MAX_ROWS, timing_rows: int = 1 << 20, fma: bool | None = None,
+         progress: bool = False) -> Plan:
+    """Plan the routine call sites of the reactor kernel ``ufunc`` (see the module docstring).
+
+    ``samples``: rows of a sampled check; ``max_rows``: the largest domain checked exhaustively;
+    ``timing_rows``: elements each build is timed on (the check rows, repeated); ``fma``: the
+    FMA setting of every build (None: the kernel's)."""
+    from .. import kernel_of
+    t0 = time.perf_counter()
+    log = print if progress else None
+    search = Search(ufunc, dict(inputs), output, samples=samples, seed=seed, max_rows=max_rows, fma=fma, log=log)
+    search.sharpen()
+    alone = search.alone()
+    sites, best = search.together(alone)
+    proof = "exhaustive" if search.check.exhaustive else "sample"
+    checked = search.check.size
+    if search.fresh is not None:  # a sampled plan is re-checked on rows it was not chosen on
+        fresh_ref = search.run(search.reference.ufunc, search.fresh)
+        again = search.compare(best, search.fresh, fresh_ref)
+        checked += search.fresh.size
+        if again.changed:
+            raise ReactorError(f"plan for '{search.kernel.name}': the chosen sites change {again.changed} outputs "
+                               f"on a fresh sample (e.g. {again.example}); declare the domain more closely or "
+                               f"sample more (samples=)")
+    below = search.below(sites)
+    reports = []
+    chosen = {(s.where, s.routine): s.precision for s in sites}
+    for where, routine in search.sites:
+        alone_rows = alone.get((where, routine), [])
+        tier = chosen.get((where, routine), TIERS[-1])
+        saved = [search.reference.cycles - c.cycles for t, c in alone_rows if t == tier]
+        b = below.get((where, routine))
+        reports.append(SiteReport(where, routine, tier, b[0] if b else None, b[1].changed if b else None,
+                                  b[1].example if b else None, saved[0] if saved else 0.0))
+    cycles, changes, ufuncs = {}, {}, {}
+    for tier in TIERS:
+        cand = search.reference if tier == TIERS[-1] else search.compare(search.build((), tier))
+        label = f"all {tier}"
+        cycles[label], changes[label], ufuncs[label] = cand.cycles, max(cand.changed, 0), cand.ufunc
+    cycles["plan"], changes["plan"], ufuncs["plan"] = best.cycles, best.changed, best.ufunc
+    times = _time(search, ufuncs, timing_rows)
+    result = Plan(search.kernel.name, sites, reports, output if not isinstance(output, Output) else output.spec,
+                  proof, checked, search.check.description, fingerprint(kernel_of(search.reference.ufunc), sites),
+                  cycles, changes, times, timing_rows, 0.0, search.builds)
+    result.ufunc = best.ufunc
+    result.seconds = time.perf_counter() - t0
+    return result
+
+
+def fingerprint(reference_kernel, sites) -> str:
+    """What a plan was made for: the reference build's code (its IR key) and the source text of
+    every planned line."""
+    h = hashlib.sha256(reference_kernel.code.key.encode())
+    for s in sites:
+        path, _, line = s.where.rpartition(":")
+        h.update(f"{s.where}\0{s.routine}\0{linecache.getline(path, int(line or 0)).strip()}\0".encode())
+    return h.hexdigest()
+
+
+def _rebuild(k, build_kernel, sites, precision):
+    b = k.build
+    return build_kernel(k.body, name=k.name, args=list(k.signature.params), returns=k.signature.returns, fma=b.fma,
+                        width=b.width, opt=b.opt, target=b.target.name, cache=b.cache, precision=precision,
+                        sites=sites)
+
+
+def _time(search: Search, ufuncs: dict, rows: int, repeats: int = 11) -> dict:
+    """Best time (ms) of one call of each distinct build on ``rows`` elements (the check rows
+    repeated), the builds interleaved in every round (same run); labels of one build share its time."""
+    check = search.check
+    reps = max(1, -(-rows // check.size))
+    columns = {n: np.concatenate([v] * reps)[:rows] for n, v in check.columns.items()}
+    args = search.arguments(columns)
+    distinct = {id(u): u for u in ufuncs.values()}
+    best = {key: float("inf") for key in distinct}
+    with np.errstate(all="ignore"):
+        for u in distinct.values():
+            u(*args)  # warm
+        for _ in range(repeats):
+            for key, u in distinct.items():
+                t0 = time.perf_counter()
+                u(*args)
+                best[key] = min(best[key], time.perf_counter() - t0)
+    return {label: best[id(u)] * 1e3 for label, u in ufuncs.items()}
+
+
+def _fmt(v) -> str:
+    if isinstance(v, float):
+        return f"{v:.9g}"
+    if isinstance(v, list):
+        return "(" + ", ".join(_fmt(x) for x in v) + ")"
+    return repr(v)
+
+
+def _plain(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    raise TypeError(f"not JSON: {value!r}")
+
+

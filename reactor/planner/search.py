@@ -1,0 +1,253 @@
+"""The search: the cheapest tier per routine call site that leaves the scene's output unchanged.
+
+1. **Reference**: the kernel built with every routine at the most accurate tier (the last of
+   ``reactor.Precision``), run on the check rows (``domains.py``); its stored output
+   (``outputs.py``) is what every candidate must reproduce exactly.
+2. **Sites**: the routine calls the reference build recorded (``kernel_of(u).routines``: routine
+   and the user's file:line; a built-in such as ``normalize`` counts through the routine it calls).
+3. **Alone**: each site at each cheaper tier, the others at the reference's: the outputs it
+   changes, and its modelled cost (cycles per element, from the dataflow model registered under
+   the entry point ``reactor.kernel_costs``, else reactor's own estimate).
+4. **Together**: sites that changed nothing alone are lowered one by one, the largest saving
+   first, each kept only if the combination still changes nothing (two harmless changes can
+   add up to a changed code).
+5. **Sample domains**: when the check is a sample, the rows whose reference output is closest to
+   a rounding boundary are searched around (neighbouring float32 inputs, ``_neighbours``) and added
+   to the check before step 3, and the final plan is checked on a second, fresh sample.
+6. **The tier below**: for every site not at the cheapest tier, the plan with that site one tier
+   lower: how many outputs it changes and one input that shows it.
+"""
+from __future__ import annotations
+
+import time
+import typing
+
+import numpy as np
+
+from ..build import Precision, Site
+from ..errors import ReactorError
+from .domains import Check, rows_to_check
+from .outputs import Output, changed_rows, row_margin
+
+TIERS = tuple(p.value for p in Precision)  # least to most accurate
+WORST_ROWS = 2048  # rows around which a sampled check searches
+NEIGHBOURS = 16  # float32 steps on each side of each of them
+
+
+class Candidate(typing.NamedTuple):
+    """One build the search made: its sites, the ufunc, modelled cycles/element and changes."""
+
+    sites: tuple
+    ufunc: typing.Any
+    cycles: float
+    changed: int
+    example: dict | None
+
+
+class Search:
+    """The state of one planning run (see the module docstring)."""
+
+    def __init__(self, ufunc, inputs: dict, output, *, samples: int, seed: int, max_rows: int,
+                 fma: bool | None, log: typing.Callable[[str], None] | None):
+        from .. import kernel_of
+        self.kernel = kernel_of(ufunc)
+        self.log = log or (lambda text: None)
+        self.output = output if isinstance(output, Output) else Output(output)
+        names = list(self.kernel.signature.names)
+        ops = self.kernel.ins
+        self.element_names = [n for n, o in zip(names, ops) if not o.uniform]
+        self.fixed = {n: inputs[n] for n, o in zip(names, ops) if o.uniform and n in inputs}
+        missing = [n for n, o in zip(names, ops) if o.uniform and n not in inputs]
+        if missing:
+            raise ReactorError(f"plan: give the arrays of {', '.join(missing)} in inputs= (tables and textures "
+                               f"are passed as they are)")
+        self.names = names
+        declared = {k: v for k, v in inputs.items() if k not in self.fixed}
+        self.dtypes = {n: o.dtype for n, o in zip(names, ops) if not o.uniform}
+        self.check = self._typed(rows_to_check(self.element_names, declared, samples, seed, max_rows))
+        self.fresh = None if self.check.exhaustive else \
+            self._typed(rows_to_check(self.element_names, declared, samples, seed + 1, max_rows))
+        self.fma = fma
+        self.builds = 0
+        self.build_seconds = 0.0
+        self.top = TIERS[-1]
+        self.reference = self.build((), self.top)
+        self.ref_out = self.run(self.reference.ufunc, self.check)
+        self.sites = [(c.where, c.name) for c in self.kernel_of(self.reference.ufunc).routines if c.where]
+
+    # -- builds and runs ------------------------------------------------------------------
+    @staticmethod
+    def kernel_of(ufunc):
+        from .. import kernel_of
+        return kernel_of(ufunc)
+
+    def build(self, sites: tuple, precision: str) -> Candidate:
+        """The kernel with ``sites`` (Site objects) and every other routine at ``precision``."""
+        from ..kernels.kernel import build_kernel
+        k = self.kernel
+        b = k.build
+        t0 = time.perf_counter()
+        ufunc = build_kernel(k.body, name=k.name, args=list(k.signature.params), returns=k.signature.returns,
+                             fma=b.fma if self.fma is None else self.fma, width=b.width, opt=b.opt,
+                             target=b.target.name, cache=b.cache, precision=precision, sites=sites)
+        self.build_seconds += time.perf_counter() - t0
+        self.builds += 1
+        return Candidate(tuple(sites), ufunc, cycles_per_element(self.kernel_of(ufunc)), -1, None)
+
+    def _typed(self, check: Check) -> Check:
+        """The check's columns in the kernel's input dtypes (the values a scene passes)."""
+        check.columns = {n: np.asarray(v).astype(self.dtypes[n], copy=False) for n, v in check.columns.items()}
+        return check
+
+    def arguments(self, columns: dict) -> list:
+        return [columns[n] if n in columns else self.fixed[n] for n in self.names]
+
+    def run(self, ufunc, check: Check) -> tuple:
+        with np.errstate(all="ignore"):
+            out = ufunc(*self.arguments(check.columns))
+        return out if isinstance(out, tuple) else (out,)
+
+    def compare(self, candidate: Candidate, check: Check | None = None, reference=None) -> Candidate:
+        """``candidate`` with the number of check rows whose output changed, and the first one."""
+        check = check or self.check
+        reference = reference if reference is not None else self.ref_out
+        rows = changed_rows(self.output, reference, self.run(candidate.ufunc, check))
+        count = int(rows.sum())
+        example = None
+        if count:
+            i = int(np.flatnonzero(rows)[0])
+            example = {n: _plain(v[i]) for n, v in check.columns.items()}
+        return candidate._replace(changed=count, example=example)
+
+    # -- the search -----------------------------------------------------------------------
+    def sharpen(self) -> None:
+        """For a sampled check: add the neighbours of the rows nearest a rounding boundary."""
+        if self.check.exhaustive:
+            return
+        margin = row_margin(self.output, self.ref_out)
+        worst = np.argsort(margin, kind="stable")[:WORST_ROWS]
+        extra = _neighbours(self.check.take(worst), self.element_names, NEIGHBOURS)
+        columns = {k: np.concatenate([v, extra[k]]) for k, v in self.check.columns.items()}
+        self.check = Check(columns, False, self.check.description + f" + {len(extra[self.element_names[0]]):,} "
+                           f"neighbours of the {len(worst):,} rows nearest a rounding boundary")
+        self.ref_out = self.run(self.reference.ufunc, self.check)
+
+    def alone(self) -> dict:
+        """Per site: [(tier, Candidate)] for each tier below the reference's, cheapest first."""
+        found = {}
+        for where, routine in self.sites:
+            rows = []
+            for tier in TIERS[:-1]:
+                try:
+                    cand = self.build((Site(where, routine, tier, self.fma),), self.top)
+                except ReactorError as exc:  # a routine without that tier
+                    self.log(f"  {routine} at {_short(where)}: no {tier} ({exc})")
+                    continue
+                rows.append((tier, self.compare(cand)))
+                self.log(f"  {routine} at {_short(where)} {tier}: changes {rows[-1][1].changed:,}, "
+                         f"{rows[-1][1].cycles:.2f} cycles/element")
+            found[(where, routine)] = rows
+        return found
+
+    def together(self, alone: dict) -> tuple[tuple, Candidate]:
+        """Lower the harmless sites one by one (largest saving first), keeping what stays exact."""
+        options = []
+        for site, rows in alone.items():
+            for tier, cand in rows:
+                if cand.changed == 0:
+                    options.append((self.reference.cycles - cand.cycles, site, tier))
+                    break  # the cheapest harmless tier of this site
+        chosen: dict = {}
+        best = self.reference._replace(changed=0)
+        for saving, (where, routine), tier in sorted(options, key=lambda o: -o[0]):
+            trial = dict(chosen)
+            trial[(where, routine)] = tier
+            cand = self.compare(self.build(_site_tuple(trial, self.fma), self.top))
+            self.log(f"  + {routine} at {_short(where)} {tier}: changes {cand.changed:,}, "
+                     f"{cand.cycles:.2f} cycles/element")
+            if cand.changed == 0 and cand.cycles <= best.cycles + 1e-9:
+                chosen, best = trial, cand
+        return _site_tuple(chosen, self.fma), best
+
+    def below(self, sites: tuple) -> dict:
+        """For each site not at the cheapest tier: the plan with it one tier lower, compared."""
+        chosen = {(s.where, s.routine): s.precision for s in sites}
+        report: dict[tuple, tuple[str, Candidate] | None] = {}
+        for where, routine in self.sites:
+            tier = chosen.get((where, routine), self.top)
+            index = TIERS.index(tier)
+            if index == 0:
+                report[(where, routine)] = None
+                continue
+            trial = dict(chosen)
+            trial[(where, routine)] = TIERS[index - 1]
+            try:
+                report[(where, routine)] = (TIERS[index - 1],
+                                            self.compare(self.build(_site_tuple(trial, self.fma), self.top)))
+            except ReactorError:
+                report[(where, routine)] = None
+        return report
+
+
+def cycles_per_element(kern) -> float:
+    """The registered dataflow model's cycles per element of a kernel's vector loop (entry point
+    ``reactor.kernel_costs``), else reactor's own estimate (``Kernel.cycles_per_element``)."""
+    model = _cost_model()
+    if model is not None:
+        try:
+            return float(model(kern))
+        except Exception:  # noqa: BLE001 - a broken plugin falls back to the estimate
+            pass
+    return float(kern.cycles_per_element)
+
+
+def _cost_model():
+    from importlib.metadata import entry_points
+    for ep in entry_points(group="reactor.kernel_costs"):
+        try:
+            return ep.load()
+        except Exception:  # noqa: BLE001
+            continue
+    return None
+
+
+def _site_tuple(chosen: dict, fma) -> tuple:
+    return tuple(sorted(Site(w, r, t, fma) for (w, r), t in chosen.items()))
+
+
+def _neighbours(rows: dict, names: list[str], steps: int) -> dict:
+    """Each row with one float input moved by 1..``steps`` float32 steps either way (the others
+    kept): where a reference output is near a boundary, its neighbours straddle it."""
+    out: dict[str, list] = {n: [] for n in rows}
+    for n in names:
+        v = rows[n]
+        if v.dtype != np.float32:
+            continue
+        bits = v.view(np.int32).astype(np.int64)
+        for k in range(1, steps + 1):
+            for sign in (1, -1):
+                moved = _step(v, bits, sign * k)
+                for m in rows:
+                    out[m].append(moved if m == n else rows[m])
+    if not out[names[0]]:
+        return {n: rows[n][:0] for n in rows}
+    return {n: np.concatenate(vs) for n, vs in out.items()}
+
+
+def _step(v: np.ndarray, bits: np.ndarray, k: int) -> np.ndarray:
+    """``v`` moved ``k`` float32 steps along the ordered line (through zero, never into NaN)."""
+    ordered = np.where(bits < 0, -(bits & 0x7FFFFFFF), bits) + k
+    ordered = np.clip(ordered, -0x7F7FFFFF, 0x7F7FFFFF)
+    back = np.where(ordered < 0, (-ordered) | 0x80000000, ordered).astype(np.uint32)
+    return back.view(np.float32).reshape(v.shape)
+
+
+def _plain(value):
+    value = np.asarray(value)
+    return value.item() if value.ndim == 0 else value.tolist()
+
+
+def _short(where: str) -> str:
+    import os
+    path, _, line = where.rpartition(":")
+    return f"{os.path.basename(path)}:{line}"
