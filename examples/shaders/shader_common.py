@@ -35,13 +35,13 @@ def fragcoords(width: int, height: int):
     return x, y
 
 
-def best_time(fn, *args, repeat: int = 5) -> float:
+def best_time(fn, *args, repeat: int = 5, **kwargs) -> float:
     """The best of ``repeat`` calls in milliseconds, after one warm-up call."""
-    fn(*args)
+    fn(*args, **kwargs)
     best = float("inf")
     for _ in range(max(1, repeat)):
         t0 = time.perf_counter()
-        fn(*args)
+        fn(*args, **kwargs)
         best = min(best, time.perf_counter() - t0)
     return best * 1e3
 
@@ -150,24 +150,26 @@ def difference_panel(codes: np.ndarray, ref: np.ndarray, scale: int = 64) -> np.
     return np.stack([v, v // 2, np.zeros_like(v)], axis=-1)
 
 
-def parse(argv, doc: str, default_size: int = 512):
+def parse(argv, doc: str, default_size: int = 512, out: str = DEFAULT_OUT):
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
-    parser.add_argument("--out", default=DEFAULT_OUT, help="output directory for the PNG")
+    parser.add_argument("--out", default=out, help="output directory for the PNG")
     parser.add_argument("--size", type=int, default=default_size, help="image width in pixels")
     parser.add_argument("--repeat", type=int, default=5, help="timing repetitions (the best is kept)")
     return parser.parse_args(argv)
 
 
-def shader_main(argv, doc: str, name: str, run, report, default_size: int = 512) -> dict:
-    """Parse the command line, ``run(size=, repeat=)`` (returns figures and ``panels``), print
-    ``report``, write ``<out>/<name>.png``; return the figures with ``image`` (the path)."""
-    args = parse(argv, doc, default_size)
+def shader_main(argv, doc: str, name: str, run, report, default_size: int = 512, out: str = DEFAULT_OUT,
+                save=None) -> dict:
+    """Parse the command line, ``run(size=, repeat=)`` on one thread (returns figures and
+    ``panels``), print ``report``, write ``<out>/<name>.png`` (``save(path, figures)``: another
+    picture); return the figures with ``image`` (the path)."""
+    args = parse(argv, doc, default_size, out)
     with single_thread():
         r = run(size=args.size, repeat=args.repeat)
     print(report(r))
     os.makedirs(args.out, exist_ok=True)
     path = os.path.join(args.out, f"{name}.png")
-    save_panels(path, r.pop("panels"))
+    (save or (lambda where, figures: save_panels(where, figures.pop("panels"))))(path, r)
     print(f"wrote {path}")
     r["image"] = path
     return r

@@ -205,9 +205,10 @@ def report(r: dict) -> str:
 
 
 def main(argv=None) -> dict:
-    from textures_common import parse
+    from shader_common import parse
+    from textures_common import DEFAULT_OUT
 
-    args = parse(argv, __doc__, 512)
+    args = parse(argv, __doc__, 512, DEFAULT_OUT)
 
     def run_here(size, repeat):
         os.makedirs(args.out, exist_ok=True)

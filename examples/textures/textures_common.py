@@ -24,12 +24,14 @@ the top-level examples, in the same test process.
 """
 from __future__ import annotations
 
-import argparse
-import contextlib
 import os
+import sys
 import time
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "shaders"))
+from shader_common import best_time, shader_main, single_thread, timed_build  # noqa: E402,F401 - the ports' harness
 
 DEFAULT_OUT = os.path.join("out", "examples", "textures")
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -93,37 +95,6 @@ def compare(codes, ref_codes, linear=None, ref_linear=None) -> dict:
 
 # -- timing -----------------------------------------------------------------------------------------
 
-def best_time(fn, *args, repeat: int = 5, **kwargs) -> float:
-    """The best of ``repeat`` calls in milliseconds, after one warm-up call."""
-    fn(*args, **kwargs)
-    best = float("inf")
-    for _ in range(max(1, repeat)):
-        t0 = time.perf_counter()
-        fn(*args, **kwargs)
-        best = min(best, time.perf_counter() - t0)
-    return best * 1e3
-
-
-def timed_build(factory, *args, **kwargs):
-    """``(factory(*args, **kwargs), milliseconds)``."""
-    t0 = time.perf_counter()
-    result = factory(*args, **kwargs)
-    return result, (time.perf_counter() - t0) * 1e3
-
-
-@contextlib.contextmanager
-def single_thread():
-    """reactor's kernels on one thread inside the block (the previous setting restored)."""
-    import reactor
-
-    before = reactor.thread_settings()
-    reactor.configure_threads(threads=1)
-    try:
-        yield
-    finally:
-        reactor.configure_threads(**before._asdict())
-
-
 # -- sources ----------------------------------------------------------------------------------------
 
 def code_lines(path: str, tag: str) -> int:
@@ -181,28 +152,12 @@ def save_rgba_png(path: str, rgba: np.ndarray) -> None:
 
 # -- command line and report ------------------------------------------------------------------------
 
-def parse(argv, doc: str, default_size: int):
-    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
-    parser.add_argument("--out", default=DEFAULT_OUT, help="output directory for the PNG")
-    parser.add_argument("--size", type=int, default=default_size, help="image width in pixels")
-    parser.add_argument("--repeat", type=int, default=5, help="timing repetitions (the best is kept)")
-    return parser.parse_args(argv)
-
-
 def scene_main(argv, doc: str, name: str, run, report, default_size: int = 512) -> dict:
-    """Parse the command line, ``run(size=, repeat=)`` on one thread (returns the figures and the
-    kernel's RGBA8 image under ``rgba``), print ``report``, write ``<out>/<name>.png``; return the
-    figures with ``image`` (the path)."""
-    args = parse(argv, doc, default_size)
-    with single_thread():
-        r = run(size=args.size, repeat=args.repeat)
-    print(report(r))
-    os.makedirs(args.out, exist_ok=True)
-    path = os.path.join(args.out, f"{name}.png")
-    save_rgba_png(path, r.pop("rgba"))
-    print(f"wrote {path}")
-    r["image"] = path
-    return r
+    """The ports' command line (``shader_common.shader_main``): ``run(size=, repeat=)`` on one
+    thread returns the figures and the kernel's RGBA8 image under ``rgba``, written as it is to
+    ``<out>/<name>.png``; the figures come back with ``image`` (the path)."""
+    return shader_main(argv, doc, name, run, report, default_size, DEFAULT_OUT,
+                       save=lambda path, r: save_rgba_png(path, r.pop("rgba")))
 
 
 def format_report(title: str, r: dict) -> str:
