@@ -10,40 +10,22 @@ figures there are at most as large (pbr, ray marcher) or the same (sin, pow, log
 """
 from __future__ import annotations
 
-import contextlib
-import importlib.util
-import io
-import pathlib
-import sys
 
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-SHADERS = ROOT / "examples" / "shaders"
+import example_runner as scenes
+
 SIZE = "128"
 
 
 def load(name: str):
-    if str(SHADERS) not in sys.path:
-        sys.path.insert(0, str(SHADERS))
-    spec = importlib.util.spec_from_file_location(f"reactor_shader_example_{name}", SHADERS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return scenes.load("shaders", name)
 
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     """Every port run once (about 3 s in all), keyed by name."""
-    out = tmp_path_factory.mktemp("shaders")
-    results = {}
-    for name in ("gltf_pbr", "noise", "raymarch", "tonemap", "sky"):
-        text = io.StringIO()
-        with contextlib.redirect_stdout(text):
-            results[name] = load(name).main(["--out", str(out), "--size", SIZE, "--repeat", "1"])
-        results[name]["stdout"] = text.getvalue()
-        results[name]["out"] = out
-    return results
+    return scenes.run_all("shaders", ("gltf_pbr", "noise", "raymarch", "tonemap", "sky"), tmp_path_factory.mktemp("shaders"), SIZE)
 
 
 def fraction(acc: dict, key: str = "codes_differing") -> float:

@@ -12,43 +12,25 @@ division (docs/routines/rsqrt.md), which makes ``relaxed`` the same as ``relaxed
 """
 from __future__ import annotations
 
-import contextlib
-import importlib.util
-import io
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-SCENES = ROOT / "examples" / "textures"
+import example_runner as scenes
+
 SIZE = "128"
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 NAMES = ("perlin", "lut", "sphere")
 
 
 def load(name: str):
-    if str(SCENES) not in sys.path:
-        sys.path.insert(0, str(SCENES))
-    spec = importlib.util.spec_from_file_location(f"reactor_texture_example_{name}", SCENES / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return scenes.load("textures", name)
 
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     """Every scene run once, keyed by name."""
-    out = tmp_path_factory.mktemp("textures")
-    results = {}
-    for name in NAMES:
-        text = io.StringIO()
-        with contextlib.redirect_stdout(text):
-            results[name] = load(name).main(["--out", str(out), "--size", SIZE, "--repeat", "1"])
-        results[name]["stdout"] = text.getvalue()
-        results[name]["out"] = out
-    return results
+    return scenes.run_all("textures", NAMES, tmp_path_factory.mktemp("textures"), SIZE)
 
 
 def fraction(acc: dict, key: str = "codes_differing") -> float:

@@ -1,0 +1,181 @@
+"""Scenes planned by ``reactor.plan``: which call sites can be relaxed without changing one output.
+
+    python examples/plan/scenes.py [--out DIR] [--size N] [--only NAME ...]
+
+Each scene is a kernel, the domain of its inputs and the formats it is stored in. For every
+(scene, format) the planner picks each routine call site's tier so that the stored output is
+identical to the all-full build's on every input of the domain (exhaustive: every row is checked),
+and the same run times all-relaxed, all-full and the plan. Writes ``DIR/plans.json`` (every plan
+as data), ``DIR/chart.png`` (per scene: modelled cost against outputs changed) and prints a table.
+
+Scenes (the first three are here; the others are the ports in examples/shaders, their inputs the
+scene's pixels, so "exhaustive" means: every pixel of that render):
+
+* ``srgb_blit``: an 8-bit sRGB texture drawn into an sRGB render target through linear light
+  (GL_FRAMEBUFFER_SRGB: decode with the IEC 61966-2-1 curve, encode again); unorm8 and unorm10.
+* ``exposure``: a half-float HDR value (every finite float16) times 2^stops for five exposure
+  stops, Reinhard, sRGB-encoded; unorm8 and unorm10.
+* ``linear_half``: an 8-bit sRGB texture converted to a linear half-float target; float16 and unorm16.
+* ``tonemap`` (three.js ACES + AgX + sRGB OETF on an HDR chart), ``gltf_pbr`` (glTF viewer GGX),
+  ``raymarch`` (sphere tracer with soft shadows and reflections): unorm8 and one wider format.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(os.path.dirname(HERE), "shaders"))
+
+import reactor  # noqa: E402
+from reactor import Float, Rows, Select, kernel  # noqa: E402
+from routines import glsl as gl  # noqa: E402
+
+DEFAULT_OUT = os.path.join("out", "examples", "plan")
+
+
+# --- DSL begin
+def srgb_decode(c):
+    return Select(c <= 0.04045, c * (1.0 / 12.92), gl.pow((c + 0.055) * (1.0 / 1.055), 2.4))
+
+
+def srgb_encode(v):
+    return Select(v <= 0.0031308, v * 12.92, 1.055 * gl.pow(v, 1.0 / 2.4) - 0.055)
+
+
+@kernel
+def srgb_blit(c: Float) -> Float:
+    return srgb_encode(srgb_decode(c))
+
+
+@kernel
+def exposure(x: Float, stops: Float) -> Float:
+    v = x * gl.exp2(stops)
+    return srgb_encode(v / (1.0 + v))
+
+
+@kernel
+def linear_half(c: Float) -> Float:
+    return srgb_decode(c)
+# --- DSL end
+
+
+STOPS = [-2.0, -1.0, 0.0, 1.0, 2.0]
+
+
+def _rows(kern_ufunc, args) -> Rows:
+    """The pixels of a port's render as joint rows (broadcast rows, columns and scalars expanded)."""
+    names = reactor.kernel_of(kern_ufunc).signature.names
+    arrays = np.broadcast_arrays(*[np.asarray(a, np.float32) for a in args])
+    return Rows(**{n: a.ravel() for n, a in zip(names, arrays)})
+
+
+def _port(module_name: str, size: int):
+    module = __import__(module_name)
+    u = reactor.kernel(module.main_image, name=module_name)
+    return u, {"rows": _rows(u, module.inputs(size))}
+
+
+def scenes(size: int) -> list[tuple[str, object, dict, list, int]]:
+    """(name, kernel, inputs, formats, timing rows) of every scene; ``size``: the ports' width."""
+    ports = [("tonemap", ["unorm8", "float16"], 1 << 20), ("gltf_pbr", ["unorm8", "unorm10"], 1 << 20),
+             ("raymarch", ["unorm8", "unorm16"], 1 << 16)]
+    found = [("srgb_blit", srgb_blit, {"c": "unorm8"}, ["unorm8", "unorm10"], 1 << 20),
+             ("exposure", exposure, {"x": "float16", "stops": STOPS}, ["unorm8", "unorm10"], 1 << 20),
+             ("linear_half", linear_half, {"c": "unorm8"}, ["float16", "unorm16"], 1 << 20)]
+    for name, formats, timing in ports:
+        port_size = size if name != "raymarch" else size // 2
+        u, inputs = _port(name, port_size)
+        found.append((name, u, inputs, formats, timing))
+    return found
+
+
+def run(size: int = 128, only=None) -> dict:
+    """Plan every scene for every format; the figures as a dict (see the module docstring)."""
+    results = []
+    with reactor.options():
+        for name, u, inputs, formats, timing in scenes(size):
+            if only and name not in only:
+                continue
+            for fmt in formats:
+                p = reactor.plan(u, inputs=inputs, output=fmt, timing_rows=timing)
+                results.append({"scene": name, "format": fmt, "plan": p.to_json(), "text": str(p),
+                                "speedup": p.times_ms["all full"] / p.times_ms["plan"],
+                                "model_speedup": p.cycles["all full"] / p.cycles["plan"]})
+    return {"size": size, "results": results}
+
+
+def table(r: dict) -> str:
+    rows = [f"{'scene':<12} {'format':<8} {'proof':<11} {'rows':>10} {'sites':>5} {'lowered':>7} "
+            f"{'relaxed: changed':>16} {'plan: changed':>13} {'model x':>7} {'timed x':>7} {'plan s':>6}"]
+    for x in r["results"]:
+        p = x["plan"]
+        lowered = sum(1 for s in p["reports"] if s["tier"] != "full")
+        rows.append(f"{x['scene']:<12} {x['format']:<8} {p['proof']:<11} {p['checked']:>10,} {len(p['reports']):>5} "
+                    f"{lowered:>7} {p['changes']['all relaxed']:>16,} {p['changes']['plan']:>13,} "
+                    f"{x['model_speedup']:>7.2f} {x['speedup']:>7.2f} {p['seconds']:>6.1f}")
+    return "\n".join(rows)
+
+
+def chart(r: dict, path: str) -> None:
+    """Per scene and format: modelled cycles/element against outputs changed, for all-relaxed,
+    all-full and the plan (the plan's point: no change, at the lowest cost that allows it)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    results = r["results"]
+    cols = 4
+    rows = -(-len(results) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols, 3.0 * rows), squeeze=False)
+    for ax, x in zip(axes.flat, results):
+        p = x["plan"]
+        styles = {"plan": ("*", "tab:green")}
+        others = [label for label in p["cycles"] if label != "plan"]  # every tier: "all relaxed", "all full", ...
+        for i, label in enumerate(others):
+            styles[label] = ("vsDo"[i % 4], ("tab:orange", "tab:blue", "tab:purple", "tab:red")[i % 4])
+        for label in others + ["plan"]:
+            marker, colour = styles[label]
+            ax.scatter(p["cycles"][label], p["changes"][label] + 0.5, marker=marker, s=110 if label == "plan" else 45,
+                       color=colour, label=label, zorder=3 if label == "plan" else 2)
+        ax.set_yscale("log")
+        ax.set_title(f"{x['scene']} -> {x['format']} ({p['proof']})", fontsize=9)
+        ax.set_xlabel("modelled cycles / element", fontsize=8)
+        ax.set_ylabel("outputs changed + 0.5", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+    for ax in list(axes.flat)[len(results):]:
+        ax.axis("off")
+    axes.flat[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", default=DEFAULT_OUT)
+    parser.add_argument("--size", type=int, default=128, help="width of the ports' renders (raymarch: half)")
+    parser.add_argument("--only", nargs="+", metavar="NAME", help="these scenes only")
+    args = parser.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    t0 = time.perf_counter()
+    r = run(args.size, args.only)
+    print(table(r))
+    for x in r["results"]:
+        print("\n" + x["text"])
+    with open(os.path.join(args.out, "plans.json"), "w") as f:
+        json.dump(r, f, indent=1)
+    chart(r, os.path.join(args.out, "chart.png"))
+    print(f"\nwrote {args.out}/plans.json and chart.png ({time.perf_counter() - t0:.0f} s)")
+    r["out"] = args.out
+    return r
+
+
+if __name__ == "__main__":
+    main()
