@@ -11,6 +11,8 @@ figures there are at most as large (pbr, ray marcher) or the same (sin, pow, log
 from __future__ import annotations
 
 
+import pathlib
+
 import pytest
 
 import example_runner as scenes

@@ -13,6 +13,8 @@ division (docs/routines/rsqrt.md), which makes ``relaxed`` the same as ``relaxed
 from __future__ import annotations
 
 
+import pathlib
+
 import numpy as np
 import pytest
 
