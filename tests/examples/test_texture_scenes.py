@@ -12,7 +12,6 @@ division (docs/routines/rsqrt.md), which makes ``relaxed`` the same as ``relaxed
 """
 from __future__ import annotations
 
-
 import pathlib
 
 import numpy as np
