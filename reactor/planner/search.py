@@ -63,6 +63,10 @@ class Search:
                                f"are passed as they are)")
         self.names = names
         declared = {k: v for k, v in inputs.items() if k not in self.fixed}
+        for n, o in zip(names, ops):
+            if o.channels > 1 and not o.uniform and n in declared:
+                raise ReactorError(f"plan: input '{n}' has {o.channels} channels per element: give its values "
+                                   f"as rows, inputs={{'rows': Rows({n}=array of shape (N, {o.channels}), ...)}}")
         self.dtypes = {n: o.dtype for n, o in zip(names, ops) if not o.uniform}
         self.check = self._typed(rows_to_check(self.element_names, declared, samples, seed, max_rows))
         self.fresh = None if self.check.exhaustive else \

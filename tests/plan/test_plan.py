@@ -158,3 +158,20 @@ def test_command_line(tmp_path):
     bad = subprocess.run([sys.executable, "-m", "reactor", "plan", f"{scene}:blit", "--input", "c=maybe"],
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "Traceback" not in bad.stderr and "domain" in bad.stderr
+
+
+def test_vector_inputs_are_planned_over_rows():
+    from reactor import vec3
+
+    @kernel
+    def lit(n: vec3, l: vec3) -> Float:
+        return gl.pow(gl.max(gl.dot(gl.normalize(n), l), 0.0), 7.5)
+
+    rng = np.random.default_rng(0)
+    n = rng.standard_normal((3000, 3)).astype(np.float32)
+    l = np.tile(np.float32([0, 0, 1]), (3000, 1))
+    p = reactor.plan(lit, inputs={"rows": Rows(n=n, l=l)}, output="unorm8", timing_rows=1 << 12)
+    assert p.proof == "exhaustive" and p.changes["plan"] == 0
+    assert {r.routine for r in p.reports} == {"rsqrt", "pow"}
+    with pytest.raises(ReactorError, match="3 channels"):
+        reactor.plan(lit, inputs={"n": "unorm8", "l": "unorm8"})
