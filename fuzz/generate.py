@@ -17,6 +17,8 @@ import random
 
 import numpy as np
 
+import reactor
+
 from .ast import (FLOATS, INTS, KINDS, Arg, Const, For, If, Lanes, Let, Op, Program, Ref, Return, Set, Ty,
                   Var, While)
 from .ops import BINARY_ARITH, BITS32, CLASSIFY, COMPARES, OPS, UNARY_ARITH
@@ -479,6 +481,10 @@ def _counter_kind(start, stop) -> str:
     return typed[0].ty.kind if typed else "Int"
 
 
+#: The forced targets this CPU runs (an AVX-512 target is only built and run on an AVX-512 host).
+RUNNABLE_FORCED = [t for t in ("avx512", "avx2", "sse4") if reactor.get_target(t).runnable]
+
+
 def generate(ch, mode: str | None = None) -> Program:
     """One random program (``mode`` "function" or "kernel"; None: the chooser picks)."""
     mode = mode or ch.choice(["function", "function", "kernel"])
@@ -489,7 +495,7 @@ def generate(ch, mode: str | None = None) -> Program:
         gen = Generator(ch, mode, max_depth=ch.int(1, 4), max_stmts=ch.int(1, 7), fma=fma)
     prog = gen.program()
     opt = ch.choice([3, 3, 3, 2, 1, 0])
-    target = ch.choice(["host", "host", "host", "avx512", "avx2", "sse4"])
+    target = ch.choice(["host", "host", "host"] + RUNNABLE_FORCED)
     return Program(prog.mode, prog.inputs, prog.body, prog.outputs, fma=fma, opt=opt, target=target)
 
 

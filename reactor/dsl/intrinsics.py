@@ -338,7 +338,8 @@ def _normalized_bits(x):
 
 def Exponent(x: Value) -> Value:
     """floor(log2|x|) as a float, exact for subnormals; ±0 -> -inf, ±inf -> +inf,
-    NaN -> NaN (AVX-512 VGETEXPPS; an integer-bit emulation elsewhere)."""
+    NaN -> that NaN quieted, sign and payload kept (AVX-512 VGETEXPPS; an
+    integer-bit emulation with the same bits elsewhere)."""
     _require_float("Exponent", x)
     natives = x86.avx512_natives(_features(), "getexp")
     if natives:
@@ -346,13 +347,20 @@ def Exponent(x: Value) -> Value:
     ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
     e = Float_((scaled >> 23) - Select(tiny, Int_(150), 127))
     e = Select(ax == 0.0, float("-inf"), e)
-    return Select(bits >= _INF_BITS, ax, e).named("exponent")
+    e = Select(bits == _INF_BITS, ax, e)
+    return Select(IsNan(x), _quiet(x), e).named("exponent")
+
+
+#: The NaN an invalid operation gives on x86 (the "QNaN floating-point indefinite"),
+#: which VGETMANTPS returns for a negative operand: the portable paths return it too.
+_DEFAULT_NAN_BITS = -0x00400000  # 0xffc00000
 
 
 def Significand(x: Value) -> Value:
     """|x| / 2^Exponent(x), in [1, 2) for finite non-zero x >= 0, exact for
-    subnormals; +0 -> 1, -0 -> -1, +inf -> 1, x < 0 (and -inf) -> NaN,
-    NaN -> NaN (AVX-512 VGETMANTPS with sign control "NaN if negative")."""
+    subnormals; +0 -> 1, -0 -> -1, +inf -> 1, x < 0 (and -inf) -> the default
+    NaN 0xffc00000, NaN -> that NaN quieted (AVX-512 VGETMANTPS with sign control
+    "NaN if negative"; the same bits elsewhere)."""
     _require_float("Significand", x)
     natives = x86.avx512_natives(_features(), "getmant", imm=0b1000)
     if natives:
@@ -360,8 +368,8 @@ def Significand(x: Value) -> Value:
     ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
     m = As(Float_, (scaled & 0x007FFFFF) | 0x3F800000)
     m = Select(bits == _INF_BITS, 1.0, m)
-    m = Select(x < 0.0, float("nan"), m)
-    m = Select(IsNan(x), x, m)
+    m = Select(x < 0.0, As(Float_, Int_(_DEFAULT_NAN_BITS)), m)
+    m = Select(IsNan(x), _quiet(x), m)
     return Select(ax == 0.0, CopySign(1.0, x), m).named("significand")
 
 

@@ -141,11 +141,15 @@ class CompiledCode:
                 self._tracker = builder.link(_lljit(), f"reactor{next(_library_ids)}")
             self._addresses = {name: self._tracker[name] for name in exports}
 
+    def unrunnable_reason(self) -> str:
+        """Why this code cannot run on this CPU (a target whose features the CPU lacks)."""
+        return (f"code built for target '{self.target.name}' cannot run on this CPU "
+                f"(it lacks {', '.join(sorted(set(self.target.required) - host_features()))}); "
+                f"inspect its assembly instead")
+
     def address(self, name: str) -> int:
         if not self.target.runnable:
-            raise ReactorError(f"code built for target '{self.target.name}' cannot run on this CPU "
-                               f"(it lacks {', '.join(sorted(set(self.target.required) - host_features()))}); "
-                               f"inspect its assembly instead")
+            raise ReactorError(self.unrunnable_reason())
         return self._addresses[name]
 
     @property

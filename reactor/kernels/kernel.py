@@ -68,6 +68,7 @@ class Kernel(ShowsCode):
 
     ufunc_ref: "_UfuncRef"  # set when its ufunc is made
     routines: "list[RoutineCall]"
+    config: "parallel.LoopConfig | parallel.ErrorLoop"  # the ufunc loop's data
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
         self.name, self.build, self.signature = name, build, signature
@@ -79,9 +80,12 @@ class Kernel(ShowsCode):
         loop_name, entry_name = f"{name}.loop", f"{name}.ufunc"
         exports = (loop_name, entry_name)
         self.code = self._from_recipe(body, signature, exports) or self._traced(body, exports, signature)
-        self._loop = self.code.address(entry_name)
-        self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element, self.messages,
-                                           core_layout(ins, outs)[2])
+        if build.target.runnable:
+            self._loop = self.code.address(entry_name)
+            self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element, self.messages,
+                                               core_layout(ins, outs)[2])
+        else:  # built to be read (assembly, IR): its ufunc raises instead of running foreign instructions
+            self._loop, self.config = parallel.error_loop(self.code.unrunnable_reason(), ReactorError)
         self._signature = [[k.dtype for k in ins + outs]]
         self.types = "".join(k.dtype.char for k in ins) + "->" + "".join(k.dtype.char for k in outs)
 

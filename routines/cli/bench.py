@@ -2,8 +2,9 @@
 
 Times every routine variant (function x precision x FMA, the natural SIMD
 width) against NumPy's float32 ufunc (``np.exp2``, ``np.power``, ``np.sin``,
-``np.arctan2``, ...) and, where installed, glibc libmvec's 16-lane vector
-functions (``_ZGVeN16v_sinf``, ...) and SLEEF's (``Sleef_sinf16_u10``, ...),
+``np.arctan2``, ...) and, where installed, glibc libmvec's vector functions
+at the host's widest level (``_ZGVeN16v_sinf`` with AVX-512, ``_ZGVdN8v_sinf``
+with AVX2, ...) and SLEEF's (``Sleef_sinf16_u10``, ``Sleef_sinf8_u10``, ...),
 on the same inputs, in one process, interleaving the candidates round by
 round and keeping each one's best round, so a noisy shared machine slows all
 of them alike. Prints ns/element and the speed-up over NumPy; a peer whose

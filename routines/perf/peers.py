@@ -5,16 +5,20 @@
   supports (AVX-512 where present; NumPy has its own float32 sin/cos, the
   others go to its SIMD or libm loops).
 * **glibc libmvec** (``libmvec.so.1``): the x86-64 vector-function ABI
-  entry points for 16 float32 lanes (``_ZGVeN16v_exp2f``, ``_ZGVeN16v_log2f``,
-  ``_ZGVeN16vv_powf``, ``_ZGVeN16v_sinf``, ``_ZGVeN16vv_atan2f``, ...: sin,
-  cos, exp, log and pow since glibc 2.22, the rest since 2.35; an older
-  glibc's missing symbols make those peers absent), called from a reactor kernel of width 16 through
+  entry points of the widest level the host runs (:func:`vector_level`):
+  16 float32 lanes with AVX-512 (``_ZGVeN16v_exp2f``, ``_ZGVeN16vv_powf``,
+  ``_ZGVeN16v_sinf``, ...), 8 with AVX2 (``_ZGVdN8v_exp2f``), else 4 with
+  SSE (``_ZGVbN4v_exp2f``): sin, cos, exp, log and pow since glibc 2.22,
+  the rest since 2.35; an older glibc's missing symbols make those peers
+  absent. They are called from a reactor kernel of that width through
   :class:`reactor.External`, so they run in exactly the loop our kernels run
-  in (contiguous loads, one call per 16 elements, masked tail).
+  in (contiguous loads, one call per vector, masked tail). An entry point
+  of a level the CPU lacks is never called (it would stop the process).
 * **SLEEF** (Debian's ``libsleef3``, ``libsleef.so.3``): ``Sleef_exp2f16_u10``
   / ``_u35``, ``Sleef_log2f16_u10`` / ``_u35``, ``Sleef_powf16_u10``,
   ``Sleef_fastpowf16_u3500``, ``Sleef_sinf16_u10`` / ``_u35``,
-  ``Sleef_fastsinf16_u3500``, ``Sleef_atan2f16_u10``, ... the same way. The suffix is SLEEF's error
+  ``Sleef_fastsinf16_u3500``, ``Sleef_atan2f16_u10``, ... the same way
+  (``f8`` and ``f4`` instead of ``f16`` at the AVX2 and SSE levels). The suffix is SLEEF's error
   bound: u10 = 1.0 ULP, u35 = 3.5 ULP, u3500 = 350 ULP, u05 = 0.5001 ULP.
   Where the library is not installed (``apt-get install libsleef3``) these
   peers are reported **absent**, not failed.
@@ -53,21 +57,44 @@ _NUMPY = {
 }
 #: The trigonometric and hyperbolic functions (routines/trig.py); atan2 takes (y, x) everywhere.
 TRIG = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh")
-_MVEC = {
-    "exp2": "_ZGVeN16v_exp2f", "log2": "_ZGVeN16v_log2f", "pow": "_ZGVeN16vv_powf",
-    "exp": "_ZGVeN16v_expf", "log": "_ZGVeN16v_logf",
-} | {f: f"_ZGVeN16v{'v' if f == 'atan2' else ''}_{f}f" for f in TRIG}
+#: The functions libmvec has (C names without the trailing ``f``).
+_MVEC = ("exp2", "log2", "pow", "exp", "log") + TRIG
+#: SLEEF's entry points per function, as (name, error-bound suffix); ``{w}`` is the lane count.
 _SLEEF = {
-    "exp2": ["Sleef_exp2f16_u10", "Sleef_exp2f16_u35"],
-    "log2": ["Sleef_log2f16_u10", "Sleef_log2f16_u35"],
-    "pow": ["Sleef_powf16_u10", "Sleef_fastpowf16_u3500"],
-    "exp": ["Sleef_expf16_u10"],
-    "log": ["Sleef_logf16_u10", "Sleef_logf16_u35"],
-    "sqrt": ["Sleef_sqrtf16_u05", "Sleef_sqrtf16_u35"],
-} | {f: [f"Sleef_{f}f16_u10", f"Sleef_{f}f16_u35"] + ([f"Sleef_fast{f}f16_u3500"] if f in ("sin", "cos") else [])
+    "exp2": ["exp2f{w}_u10", "exp2f{w}_u35"],
+    "log2": ["log2f{w}_u10", "log2f{w}_u35"],
+    "pow": ["powf{w}_u10", "fastpowf{w}_u3500"],
+    "exp": ["expf{w}_u10"],
+    "log": ["logf{w}_u10", "logf{w}_u35"],
+    "sqrt": ["sqrtf{w}_u05", "sqrtf{w}_u35"],
+} | {f: [f"{f}f{{w}}_u10", f"{f}f{{w}}_u35"] + ([f"fast{f}f{{w}}_u3500"] if f in ("sin", "cos") else [])
      for f in TRIG}
 _SLEEF_CLAIM = {"u05": "0.5001 ULP", "u10": "1.0 ULP", "u35": "3.5 ULP", "u3500": "350 ULP"}
 ARITY = {"pow": 2, "atan2": 2}
+#: x86-64 vector-function ABI levels, widest first: (required CPU feature, lanes, ISA letter).
+_LEVELS = (("avx512f", 16, "e"), ("avx2", 8, "d"), ("sse2", 4, "b"))
+
+
+@functools.lru_cache(maxsize=None)
+def vector_level() -> tuple[int, str]:
+    """``(lanes, ISA letter)`` of the widest vector-function ABI level this CPU runs:
+    (16, "e") with AVX-512, (8, "d") with AVX2, else (4, "b")."""
+    import reactor
+
+    features = reactor.get_target("host").feature_set
+    return next((lanes, isa) for feature, lanes, isa in _LEVELS if feature in features or lanes == 4)
+
+
+def mvec_symbol(func: str) -> str:
+    """libmvec's entry point for ``func`` at the host's level, e.g. ``_ZGVdN8v_exp2f``."""
+    lanes, isa = vector_level()
+    return f"_ZGV{isa}N{lanes}{'v' * ARITY.get(func, 1)}_{'pow' if func == 'pow' else func}f"
+
+
+def sleef_symbols(func: str) -> list[str]:
+    """SLEEF's entry points for ``func`` at the host's level, e.g. ``Sleef_exp2f8_u10``."""
+    lanes, _ = vector_level()
+    return [f"Sleef_{name.format(w=lanes)}" for name in _SLEEF.get(func, ())]
 
 
 @dataclasses.dataclass
@@ -93,13 +120,15 @@ class Peer:
 
 
 @functools.lru_cache(maxsize=None)
-def external_kernel(symbol: str, library: str, arity: int = 1, width: int = 16):
+def external_kernel(symbol: str, library: str, arity: int = 1, width: int | None = None):
     """A reactor ufunc calling the vector function ``symbol`` (``width`` float32
-    lanes) of ``library`` once per vector; None if the library or symbol is
-    missing (the reason is then in :func:`missing`)."""
+    lanes, by default the host's :func:`vector_level`) of ``library`` once per
+    vector; None if the library or symbol is missing (the reason is then in
+    :func:`missing`)."""
     import reactor
     from reactor import External, Float
 
+    width = width or vector_level()[0]
     vec = reactor.vector_type("Float", width)
     ext = External(symbol, returns=vec, args=(vec,) * arity, library=library)
     if not ext.available:
@@ -195,11 +224,11 @@ def _peers_of(func, libs, families) -> list[Peer]:
         out.append(Peer("numpy rsqrt", func, "numpy", "1 / np.sqrt (two passes)",
                         "0.5 + 0.5 ULP (two rounded operations)", _rsqrt_numpy))
     if func in _MVEC and "libmvec" in families:
-        sym = _MVEC[func]
+        sym = mvec_symbol(func)
         k = external_kernel(sym, libs["libmvec"], arity)
         out.append(Peer(f"libmvec {func}", func, "libmvec", sym, "glibc: vector variants <= 4 ULP",
                         k, "" if k is not None else missing(sym, libs["libmvec"])))
-    for sym in (_SLEEF.get(func, ()) if "sleef" in families else ()):
+    for sym in (sleef_symbols(func) if "sleef" in families else ()):
         suffix = sym.rsplit("_", 1)[1]
         k = external_kernel(sym, libs["sleef"], arity)
         name = f"fast{func}" if "_fast" in sym else func

@@ -1,9 +1,10 @@
-"""ScaleF, ReduceNearest and LRint: the portable paths give the AVX-512 instructions' bits."""
+"""ScaleF, ReduceNearest, LRint, Exponent and Significand: the portable paths give the AVX-512
+instructions' bits."""
 import numpy as np
 import pytest
 
 import reactor
-from reactor import Float, Int, LRint, ReduceNearest, ScaleF, kernel
+from reactor import Exponent, Float, Int, LRint, ReduceNearest, ScaleF, Significand, kernel
 
 NATIVE = "avx512f" in reactor.get_target("host").feature_set and "avx512dq" in reactor.get_target("host").feature_set
 
@@ -13,7 +14,9 @@ def _kernels(target):
                 target=target)
     rn = kernel(lambda x: ReduceNearest(x), args=[Float], returns=Float, name=f"reduce_{target}", target=target)
     lr = kernel(lambda x: LRint(x), args=[Float], returns=Int, name=f"lrint_{target}", target=target)
-    return sc, rn, lr
+    ex = kernel(lambda x: Exponent(x), args=[Float], returns=Float, name=f"getexp_{target}", target=target)
+    sg = kernel(lambda x: Significand(x), args=[Float], returns=Float, name=f"getmant_{target}", target=target)
+    return sc, rn, lr, ex, sg
 
 
 def _inputs(rng, n):
@@ -30,7 +33,7 @@ def test_portable_paths_match_avx512_bits(portable, rng):
     native = _kernels("avx512")
     other = _kernels(portable)
     x = _inputs(rng, 1 << 18)
-    for k in (1, 2):  # ReduceNearest, LRint (in range: |x| < 2^31)
+    for k in (1, 2, 3, 4):  # ReduceNearest, LRint (in range: |x| < 2^31), Exponent, Significand
         xs = x if k == 1 else x[np.abs(x) < 2.0 ** 30]
         assert np.array_equal(native[k](xs).view(np.uint32), other[k](xs).view(np.uint32))
     bs = np.array([0, -0.0, 1, -1, 0.5, -0.5, 1.5, -1.5, 127, 128, 200, 300, 400, -126, -149, -150, -200,
@@ -72,3 +75,17 @@ def test_build_settings_and_precision_scopes():
     assert reactor.build_settings().precision is full
     with pytest.raises(reactor.ReactorError, match="precision must be one of"):
         reactor.precision("medium").__enter__()
+
+
+def test_exponent_and_significand_nan_bits_are_one_rule_on_every_target():
+    """A NaN operand gives itself quieted (sign and payload kept), a negative one x86's default
+    NaN 0xffc00000: on the portable paths as on VGETEXPPS/VGETMANTPS, so that NaNs meeting in
+    log2 have one value and no operand order can change a result's bits."""
+    x = np.array([0x7F800001, 0xFF812345, 0x7FC00000, 0xFFC02904, 0xBF800000, 0xFF800000, 0x80000001],
+                 np.uint32).view(np.float32)
+    quiet = [0x7FC00001, 0xFFC12345, 0x7FC00000, 0xFFC02904]
+    runnable = [t for t in ("host", "avx2", "sse4") if reactor.get_target(t).runnable]
+    for target in runnable:
+        _, _, _, ex, sg = _kernels(target)
+        assert list(ex(x).view(np.uint32)[:4]) == quiet and ex(x)[4] == 0.0 and ex(x)[5] == np.inf
+        assert list(sg(x).view(np.uint32)) == quiet + [0xFFC00000] * 3

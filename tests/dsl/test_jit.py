@@ -209,5 +209,9 @@ def test_forced_targets_use_their_own_estimate_instructions():
         def est(v: Float) -> Float:
             return RsqrtApprox(v)
         assert instruction in kernel_of(est).assembly
+        if not reactor.get_target(target).runnable:  # built to be read: its ufunc refuses to run
+            with pytest.raises(reactor.ReactorError, match="cannot run on this CPU"):
+                est(x)
+            continue
         err = np.abs(est(x) / exact - 1).max()
         assert 2 ** -20 < err < bound, (target, err)

@@ -4,6 +4,8 @@ import pathlib
 
 import numpy as np
 
+import reactor
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
@@ -22,7 +24,12 @@ def test_scenes_plan_with_no_change(tmp_path):
         assert p["cycles"]["plan"] <= p["cycles"]["all full"] + 1e-9
     blit = by[("srgb_blit", "unorm8")]["plan"]
     assert [s["tier"] for s in blit["reports"]] == ["relaxed", "relaxed"]
-    assert blit["cycles"]["all full"] / blit["cycles"]["plan"] > 1.3
+    if "avx512f" in reactor.get_target("host").feature_set:
+        # with VGETEXPPS/VGETMANTPS pow's cost is its polynomials, which relaxing shortens; elsewhere
+        # the portable exponent split (the same in both tiers) bounds it and the saving is smaller
+        assert blit["cycles"]["all full"] / blit["cycles"]["plan"] > 1.3
+    else:
+        assert blit["cycles"]["plan"] < blit["cycles"]["all full"]
     assert by[("srgb_blit", "unorm10")]["plan"]["changes"]["all relaxed"] > 0
     exposure = {s["routine"]: s["tier"] for s in by[("exposure", "unorm8")]["plan"]["reports"]}
     assert exposure == {"exp2": "relaxed", "pow": "full"}  # whole stops: exp2 exact at every tier

@@ -55,7 +55,7 @@ def test_bad_kernel_is_non_conforming():
     r = sweep(bad, "exp2", "full", **AROUND_ONE, **quiet())
     assert not r.conforming
     assert r.nonconforming > 2**19 and r.max_margin >= 1 and r.worst[0].margin >= 1
-    assert 8 <= r.max_ulp32 <= 16.5           # 2**-20 relative is 8..16 ULP-32
+    assert 8 <= r.max_ulp32 <= 17             # 2**-20 relative is 8..16 ULP-32, plus np.exp2's own error
     assert r.mismatches == 0
     relaxed = sweep(bad, "exp2", "relaxed", **AROUND_ONE, **quiet())
     assert relaxed.conforming                 # ~2**-3 ULP-16 is far inside 1 + 2|x|

@@ -157,7 +157,7 @@ def test_regression_reduce_down_rounds_down_on_every_target(rng):
         -rng.random(4096).astype(np.float32) * 0.5,
         make_data("Float", rng, 4096)])
     got = {}
-    for target in ("host", "avx512", "avx2", "sse4"):
+    for target in [t for t in ("host", "avx512", "avx2", "sse4") if reactor.get_target(t).runnable]:
         for width in (1, 16):
             @kernel(target=target, width=width, name=f"reduce_down_{target}_{width}", cache=False)
             def fr(x: Float) -> Float:

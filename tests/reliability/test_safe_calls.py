@@ -47,23 +47,25 @@ SCRIPT = textwrap.dedent('''
         caught = Alarm
     else:
         caught = KeyboardInterrupt
-    taken = 0
+    taken = complete = 0
     for run in range(int(sys.argv[2])):
         out = np.full(n, np.nan, np.float32)
-        if mode == "alarm":
-            signal.setitimer(signal.ITIMER_REAL, 0.002)
-        else:
-            threading.Timer(0.002, os.kill, (os.getpid(), signal.SIGINT)).start()
-        try:
+        try:  # on a loaded machine the signal may come before the call starts (even in Timer.start)
+            if mode == "alarm":
+                signal.setitimer(signal.ITIMER_REAL, 0.002)
+            else:
+                threading.Timer(0.002, os.kill, (os.getpid(), signal.SIGINT)).start()
             slow(x, out=out)
             for _ in range(10000):  # the signal may come after a fast call (or a loaded machine): wait
                 time.sleep(0.001)
         except caught:
             taken += 1
-        assert np.array_equal(out.view(np.uint32), want.view(np.uint32)), f"run {run}: output incomplete"
+        done = np.array_equal(out.view(np.uint32), want.view(np.uint32))
+        assert done or np.isnan(out).all(), f"run {run}: output partly written"  # never half a call
+        complete += done
         r = slow(x)  # a result freed right after: no thread may still write to it
         del r
-    print("taken", taken)
+    print("complete", complete, "taken", taken)
 ''')
 
 
@@ -71,13 +73,15 @@ def _run(mode: str, runs: int):
     proc = subprocess.run([sys.executable, "-c", SCRIPT, mode, str(runs)], capture_output=True, text=True,
                           timeout=300, cwd=ROOT, env=dict(os.environ, PYTHONPATH=ROOT))
     assert proc.returncode == 0, proc.stderr[-3000:]
-    return int(proc.stdout.split()[-1])
+    words = proc.stdout.split()
+    return int(words[-3]), int(words[-1])
 
 
 @pytest.mark.parametrize("mode", ["sigint", "alarm"])
 def test_signal_during_split_call_is_taken_after_complete_output(mode):
-    taken = _run(mode, 12)
-    assert taken == 12  # every signal arrived as an exception, once, after the call
+    complete, taken = _run(mode, 12)
+    assert taken == 12  # every signal arrived as an exception, once
+    assert complete >= 6  # and most calls ran to the end first (the rest never started)
 
 
 def _child(queue):

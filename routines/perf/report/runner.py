@@ -52,8 +52,8 @@ def run(functions=DEFAULT_FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20
         variants = build_variants(functions, b)
     peer_objs = peers_mod.peers(functions, libraries)
     peer_list = [p.to_json() | {"kind": "peer", "fn": p.fn, "present": p.present,
-                                "reactor": p.family in ("libmvec", "sleef"), "width": 16 if
-                                p.family in ("libmvec", "sleef") else None} for p in peer_objs]
+                                "reactor": p.family in ("libmvec", "sleef"), "width": peers_mod.vector_level()[0]
+                                if p.family in ("libmvec", "sleef") else None} for p in peer_objs]
     floors = floor_kernels(functions)
     probes = probe_kernels()
     phases["build"] = time.perf_counter() - t

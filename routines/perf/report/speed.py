@@ -34,7 +34,7 @@ def measure_speed(entries, sizes: dict, rounds: dict, ghz: float, threads2: bool
             if threads2 and n >= TWO_THREAD_SIZE:
                 reactor.configure_threads(threads=2, threshold=TWO_THREAD_SIZE)
                 two = [timing.Candidate(e["key"], e["func"], e["fn"], 2) for e in entries
-                       if e.get("reactor") and e.get("width", 16) == 16]
+                       if e.get("reactor") and (e.get("kind") == "peer" or e.get("width") == 16)]
                 res += timing.time_candidates(two, size, n, rounds[size], ghz, progress=progress)
             loads[size] = timing.others_load(a, timing.load_snapshot())
             by_key = {e["key"]: e for e in entries}
