@@ -1,6 +1,7 @@
 """``python -m reactor dump TARGET [--what ir|opt|asm] [--fma on|off] [--width N] [--target T]``,
 ``python -m reactor explain TARGET [--html OUT] [--diff fma=off] [--plumbing]``,
-``python -m reactor plan TARGET --input NAME=DOMAIN ... [--output unorm8] [--save PLAN.json]``
+``python -m reactor plan TARGET --input NAME=DOMAIN ... [--output unorm8] [--save PLAN.json]``,
+``python -m reactor cache info|clear``
 
 TARGET names what to print:
   FILE.py:NAME           a Function or @kernel ufunc defined in a user's file
@@ -46,6 +47,16 @@ PLAN_EXAMPLES = ("python -m reactor plan examples/plan/scenes.py:srgb_blit --inp
                  "--output unorm8 --save exposure.plan.json")
 
 
+CACHE = """python -m reactor cache info|clear
+
+The disk cache of compiled code: $REACTOR_CACHE_DIR, else $XDG_CACHE_HOME/reactor, else
+~/.cache/reactor (REACTOR_CACHE=0: none). It is used only when it is this user's and not
+writable by others; its entries are authenticated with this user's key, so no one else's
+code is ever linked. info shows where it is, whether it is used and how big it is; clear
+empties it (and the key stays)."""
+CACHE_EXAMPLES = ("python -m reactor cache info", "REACTOR_CACHE_DIR=/tmp/rc python -m reactor cache clear")
+
+
 def _parser() -> ArgumentParser:
     parser = ArgumentParser(prog="python -m reactor", description=__doc__, examples=EXAMPLES)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -72,7 +83,23 @@ def _parser() -> ArgumentParser:
     plan.add_argument("--samples", type=int, default=1 << 18, metavar="N", help="rows of a sampled check")
     plan.add_argument("--save", metavar="FILE", help="write the plan as JSON (reactor.Plan.load reads it)")
     plan.add_argument("--verbose", action="store_true", help="each build of the search as it is made")
+    cache = sub.add_parser("cache", help="show or empty the disk cache of compiled code",
+                           description=CACHE, examples=CACHE_EXAMPLES)
+    cache.add_argument("action", choices=("info", "clear"), help="info: where, how big, usable; clear: empty it")
     return parser
+
+
+def _cache(action: str) -> int:
+    from .jit import cache
+    if action == "clear":
+        print(f"removed {cache.clear()} entries from {cache.directory()}")
+        return 0
+    i = cache.info()
+    print(f"directory  {i['directory'] or '(disabled)'}")
+    print(f"usable     {'yes' if i['usable'] else 'no: ' + i['reason']}")
+    print(f"entries    {i['objects']} objects, {i['recipes']} recipes")
+    print(f"size       {i['bytes'] / 2**20:.1f} MiB of {i['bound'] / 2**20:.0f} MiB (REACTOR_CACHE_SIZE)")
+    return 0
 
 
 def _domain(text: str):
@@ -165,6 +192,8 @@ def _main(argv: list[str]) -> int:
         return _explain(args)
     if args.command == "plan":
         return _plan(args)
+    if args.command == "cache":
+        return _cache(args.action)
     with options(**build_options(args)):
         print(text(load(args.target), args.what))
     return 0

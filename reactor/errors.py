@@ -122,3 +122,9 @@ class FmaDisabledError(ReactorError):
 
 class CompileError(ReactorError):
     """LLVM rejected the generated module (a reactor bug; please report it)."""
+
+
+class CacheWarning(UserWarning):
+    """The disk cache cannot be used or kept (not this user's, writable by others, a full or
+    read-only disk) or an entry was removed; compiling goes on without it."""
+

@@ -109,7 +109,8 @@ class CompiledCode:
 
     def __init__(self, ir_text: str | None, target: Target, opt: int, exports: tuple[str, ...],
                  use_disk_cache: bool = True, imports: dict[str, int] | None = None, *,
-                 key: str | None = None, obj: bytes | None = None, ir_source=None):
+                 key: str | None = None, obj: bytes | None = None, source: str = "memory cache",
+                 ir_source=None):
         self.target, self.opt = target, opt
         self._ir_text, self._ir_source = ir_text, ir_source
         if key is None:
@@ -117,29 +118,50 @@ class CompiledCode:
                 raise ValueError("CompiledCode needs the IR text or the key of IR built before")
             key = cache_key(ir_text, target, opt)
         self.key = key
-        self.source = "memory cache"
+        self.source = source  # where a given ``obj`` came from
         if obj is None:
             obj, self.source = cached_object(self.key, use_disk_cache)
         if obj is None:
-            self.source = "compiled"
-            mod = pipeline(self.ir_text, target, opt)
-            with _lock:
-                obj = target.machine.emit_object(mod)
-            if use_disk_cache:
-                cache.disk_put(self.key, obj)
+            obj = self._compile(use_disk_cache)
         cache.memory_put(self.key, obj)
         self.object = obj
         self._addresses: dict[str, int] = {}
         self._tracker = None
-        if target.runnable:
-            with _lock:
-                builder = llvm.JITLibraryBuilder().add_object_img(obj).add_current_process()
-                for name, address in (imports or {}).items():
-                    builder.import_symbol(name, address)
-                for name in exports:
-                    builder.export_symbol(name)
-                self._tracker = builder.link(_lljit(), f"reactor{next(_library_ids)}")
-            self._addresses = {name: self._tracker[name] for name in exports}
+        if not target.runnable:
+            return
+        try:
+            self._link(imports, exports)
+        except RuntimeError as exc:
+            if self.source == "compiled":
+                raise CompileError(f"LLVM could not link the module it compiled: {exc}") from None
+            # an authenticated entry that still fails to link (an llvmlite or library change):
+            # heal the cache instead of failing in every later process
+            cache.memory_remove(self.key)
+            if "disk" in self.source:
+                cache.disk_remove(self.key, ".o", f"it did not link: {str(exc).strip()[:200]}")
+            self.object = self._compile(use_disk_cache)
+            cache.memory_put(self.key, self.object)
+            self._link(imports, exports)
+
+    def _compile(self, use_disk_cache: bool) -> bytes:
+        """Object code from the IR (built again from its source if it came from a recipe)."""
+        self.source = "compiled"
+        mod = pipeline(self.ir_text, self.target, self.opt)
+        with _lock:
+            obj = self.target.machine.emit_object(mod)
+        if use_disk_cache:
+            cache.disk_put(self.key, obj)
+        return obj
+
+    def _link(self, imports, exports) -> None:
+        with _lock:
+            builder = llvm.JITLibraryBuilder().add_object_img(self.object).add_current_process()
+            for name, address in (imports or {}).items():
+                builder.import_symbol(name, address)
+            for name in exports:
+                builder.export_symbol(name)
+            self._tracker = builder.link(_lljit(), f"reactor{next(_library_ids)}")
+        self._addresses = {name: self._tracker[name] for name in exports}
 
     def unrunnable_reason(self) -> str:
         """Why this code cannot run on this CPU (a target whose features the CPU lacks)."""

@@ -133,7 +133,7 @@ class Kernel(ShowsCode):
         self.cycles_per_element, self.messages = found["cycles"], found["messages"]
         self.routines = [RoutineCall(*call) for call in found.get("routines", [])]
         code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
-                            obj=obj, ir_source=lambda: self._module(body)[0].text)
+                            obj=obj, source=source, ir_source=lambda: self._module(body)[0].text)
         code.source = f"recipe, {source}" if code.source != "compiled" else code.source
         return code
 
