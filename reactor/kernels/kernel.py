@@ -51,7 +51,7 @@ from ..jit import cache
 from ..jit.compiler import CompiledCode, ShowsCode, cached_object
 from ..dsl.calls import RoutineCall, calls_of
 from ..dsl.limits import messages_of
-from .recipe import recipe_key
+from .recipe import recipe_watch, unchanged
 from . import parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
 from .operands import core_layout, gufunc_signature, operand_of
@@ -112,7 +112,13 @@ class Kernel(ShowsCode):
         return self._module(self.body, lines=True)[0]
 
     def _recipe(self, body, signature) -> str | None:
-        return recipe_key(body, "kernel", self.name, signature, self.build.key())
+        key, self.watch = recipe_watch(body, "kernel", self.name, signature, self.build.key())
+        return key
+
+    def unchanged(self) -> bool:
+        """Whether a build of the same body now would give this kernel (nothing it read was rebound;
+        a body without a recipe key is traced again)."""
+        return self.recipe is not None and unchanged(self.watch)
 
     def _from_recipe(self, body, signature, exports) -> CompiledCode | None:
         """The code a body with this recipe compiled to before, without tracing it (None: trace)."""
@@ -185,7 +191,7 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
     key = (body, name, tuple(sigs), tuple(builds))
     known = _memo.get(key)
     cached = known() if known is not None else None
-    if cached is not None and cached.ufunc_ref() is not None:
+    if cached is not None and cached.ufunc_ref() is not None and all(k.unchanged() for k in cached.kernels):
         return cached.ufunc_ref()
     kernels = [Kernel(body, name, sig, build) for sig, build in zip(sigs, builds)]
     shapes = {(len(k.in_kinds), len(k.out_kinds), k.gufunc_signature) for k in kernels}

@@ -6,13 +6,22 @@ nested code), the values it reads from its closure cells, defaults and module
 globals, recursively through the plain Python helpers and reactor Functions it
 calls, the sources of reactor and of the builder libraries registered with
 ``reactor.hide_frames_of`` (routines), llvmlite's version, and ``parts`` (the
-signature and build settings). A value that is not a number, string, bytes,
-bool, None, a tuple of those, a module of a known library, a reactor object
-or a Python function makes the key ``None``: such a body is traced (its IR is
-the key then), so a stale object is never linked. Builtins count by name.
+signature and build settings). The file and line numbers count too (the
+user's lines are in error messages, routine call sites and plans). A value
+that is not a number, string, bytes, bool, None, a tuple of those, a module of
+a known library, a reactor object that states its value (an enum, a frozen
+dataclass) or a Python function makes the key ``None``: such a body is traced
+(its IR is the key then), so a stale object is never linked. Builtins count by
+name.
+
+``recipe_watch`` gives, with the key, what it read (each global, closure cell
+and defaults tuple, by identity), so a kernel built from the same function
+object can be reused in memory while none of them was rebound (``unchanged``).
 """
 from __future__ import annotations
 
+import dataclasses
+import enum
 import functools
 import hashlib
 import os
@@ -64,10 +73,14 @@ def _library_packages() -> set[str]:
     return {os.path.basename(os.path.normpath(d)) for d in library_dirs()}
 
 
+_MISSING = object()
+
+
 class _Hasher:
     def __init__(self):
         self.h = hashlib.sha256()
         self.seen: set[int] = set()
+        self.watch: list[tuple] = []  # (scope dict, name, value) read, for ``unchanged``
 
     def put(self, *parts) -> None:
         for p in parts:
@@ -75,14 +88,17 @@ class _Hasher:
             self.h.update(b"\0")
 
     def code(self, code: types.CodeType, scope: dict) -> None:
+        lines = getattr(code, "co_linetable", None) or code.co_lnotab
         self.put("code", code.co_code, code.co_names, code.co_varnames, code.co_freevars, code.co_cellvars,
-                 code.co_argcount, code.co_kwonlyargcount, code.co_flags)
+                 code.co_argcount, code.co_kwonlyargcount, code.co_flags, code.co_filename, code.co_firstlineno,
+                 lines)
         for const in code.co_consts:
             if isinstance(const, types.CodeType):
                 self.code(const, scope)
             else:
                 self.value(const)
         for name in code.co_names:
+            self.watch.append((scope, name, scope.get(name, _MISSING)))
             if name in scope:
                 self.put("global", name)
                 self.value(scope[name])
@@ -100,9 +116,15 @@ class _Hasher:
         self.code(fn.__code__, fn.__globals__)
         for cell in fn.__closure__ or ():
             try:
-                self.value(cell.cell_contents)
+                contents = cell.cell_contents
             except ValueError:  # an empty cell (a name bound later)
                 self.put("empty cell")
+                self.watch.append((cell, None, _MISSING))
+                continue
+            self.watch.append((cell, None, contents))
+            self.value(contents)
+        self.watch.append((fn, "__defaults__", fn.__defaults__))
+        self.watch.append((fn, "__kwdefaults__", fn.__kwdefaults__))
         for default in (fn.__defaults__ or ()) + tuple((fn.__kwdefaults__ or {}).values()):
             self.value(default)
 
@@ -143,19 +165,42 @@ class _Hasher:
                 raise Unkeyable(repr(v))
         elif isinstance(v, type) and (_in_library(v.__module__) or v.__module__ in ("builtins", "numpy")):
             self.put("class", v.__module__, v.__qualname__)
-        elif _in_library(getattr(type(v), "__module__", None)):
-            # a reactor object (a Precision, a Target ...): its state by repr
+        elif _in_library(getattr(type(v), "__module__", None)) and (
+                isinstance(v, enum.Enum) or dataclasses.is_dataclass(v) and v.__dataclass_params__.frozen):
+            # a reactor object that states its value (a Precision, a Target ...): its state by repr
             self.put("library object", type(v).__qualname__, repr(v))
-        else:
+        else:  # anything else (a constant vec3 or mat3, a user's object) is traced
             raise Unkeyable(type(v).__name__)
 
 
 def recipe_key(body, *parts) -> str | None:
     """The key of ``body``'s IR with ``parts`` (signature, settings), or None if it has none."""
+    return recipe_watch(body, *parts)[0]
+
+
+def recipe_watch(body, *parts) -> tuple[str | None, list[tuple]]:
+    """``recipe_key`` and what it read (for ``unchanged``); ``(None, [])`` if it has no key."""
     hasher = _Hasher()
-    hasher.put("reactor recipe 1", library_digest(), *parts)
+    hasher.put("reactor recipe 2", library_digest(), *parts)
     try:
         hasher.function(body)
     except Unkeyable:
-        return None
-    return hasher.h.hexdigest()
+        return None, []
+    return hasher.h.hexdigest(), hasher.watch
+
+
+def unchanged(watch: list[tuple]) -> bool:
+    """Whether every global, closure cell and default a key read still holds the same object."""
+    for where, name, value in watch:
+        if name is None:
+            try:
+                now = where.cell_contents
+            except ValueError:
+                now = _MISSING
+        elif isinstance(where, dict):
+            now = where.get(name, _MISSING)
+        else:
+            now = getattr(where, name)
+        if now is not value:
+            return False
+    return True

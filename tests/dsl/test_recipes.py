@@ -155,3 +155,58 @@ def test_a_fresh_process_hits_without_tracing(tmp_path):
                            cwd=ROOT, timeout=120) for _ in range(2)]
     assert [r.stdout.split(None, 1) for r in runs] == [["2", "compiled\n"], ["0", "recipe, disk cache\n"]], \
         [r.stderr[-2000:] for r in runs]
+
+
+# -- stale hits that must not happen ----------------------------------------------------------
+
+FACTOR = 2.0
+
+
+def _scaled(x: Float) -> Float:
+    return x * FACTOR
+
+
+def test_the_same_function_object_after_a_global_is_rebound_is_built_again():
+    global FACTOR
+    x = np.arange(5, dtype=np.float32)
+    try:
+        first = kernel(_scaled, name="rebound_probe")
+        assert kernel(_scaled, name="rebound_probe") is first  # nothing changed: the same ufunc
+        FACTOR = 3.0
+        second = kernel(_scaled, name="rebound_probe")
+        assert second is not first and np.array_equal(second(x), x * 3)
+        _fresh()
+        FACTOR = 2.0  # back: the recipe of the first build again
+        assert np.array_equal(kernel(_scaled, name="rebound_probe")(x), x * 2)
+    finally:
+        FACTOR = 2.0
+
+
+def _at_line(blank_lines: int):
+    """The same body compiled at a later line (as after an edit above it)."""
+    namespace = {"Float": Float, "glsl": __import__("routines.glsl", fromlist=["pow"])}
+    src = "\n" * blank_lines + "def body(x: Float) -> Float:\n    return glsl.pow(x, 1.0 / 2.2)\n"
+    exec(compile(src, "/virtual/shader.py", "exec"), namespace)
+    return namespace["body"]
+
+
+def test_a_body_moved_to_other_lines_is_a_miss():
+    """The lines are in error messages, routine call sites and precision plans."""
+    a = kernel(_at_line(0), name="moved_probe")
+    b = kernel(_at_line(5), name="moved_probe")
+    assert kernel_of(a).recipe != kernel_of(b).recipe
+    assert [c.where for c in kernel_of(a).routines] != [c.where for c in kernel_of(b).routines]
+    assert kernel_of(b).routines[0].where.endswith(":7")
+
+
+def test_constant_vectors_and_matrices_are_traced_not_keyed_by_repr():
+    x = np.arange(4, dtype=np.float32)
+    outs = []
+    for scale in (1.0, 2.0):
+        m = reactor.mat2(scale)
+
+        def body(v: Float) -> Float:
+            return (m @ reactor.vec2(v, 1.0)).x
+        assert kernel_of(kernel(body, name="mat_probe")).recipe is None
+        outs.append(kernel(body, name="mat_probe")(x))
+    assert np.array_equal(outs[0], x) and np.array_equal(outs[1], 2 * x)
