@@ -33,6 +33,8 @@ from .errors import (
 )
 from .ir.types import KINDS, WIDTHS
 from .kernels.kernel import Kernel, kernel, kernel_of
+from .kernels.chunks import map_blocks
+from .kernels.travel import travels_as
 from .explain import explain
 from .planner import Plan, PlanStaleError, Range, Rows, plan
 from .kernels.parallel import configure as configure_threads, settings as thread_settings
@@ -77,7 +79,7 @@ __all__ = [
     "ReduceDown", "ReduceNearest", "Round", "RsqrtApprox", "ScaleF", "Select", "Significand", "ShiftRightArithmetic",
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
-    "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of",
+    "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
     "configure_threads", "thread_settings", "RoutineCall", "routine_call", "site_choice", "explain",
     "plan", "Plan", "PlanStaleError", "Range", "Rows",
     # errors

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import functools
 
-from reactor import Float, ReactorError, build_settings, get_target, kernel, options
+from reactor import Float, ReactorError, build_settings, get_target, kernel, options, travels_as
 
 from . import exponential as _exp2
 from . import logarithm as _log2
@@ -57,4 +57,6 @@ def _build(name, precision, fma, width, target, tag_width):
 
     body = binary if name in BINARY else unary
     body.__doc__ = doc
-    return kernel(body, name=tag, fma=fma, width=width, target=target, precision=precision.value)
+    u = kernel(body, name=tag, fma=fma, width=width, target=target, precision=precision.value)
+    # pickled as this call: rebuilt on the other side for its CPU (its natural width unless one was asked)
+    return travels_as(u, jit, name, precision.value, fma, width if tag_width else None, target)

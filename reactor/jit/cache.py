@@ -195,7 +195,7 @@ def disk_get(key: str, suffix: str = ".o") -> bytes | None:
     """The authenticated contents of entry ``key``, or None (missing, planted, damaged)."""
     root, _ = trusted_directory()
     secret = _secret(root) if root else None
-    if secret is None:
+    if root is None or secret is None:
         return None
     path = os.path.join(root, key + suffix)
     try:
@@ -221,7 +221,7 @@ def disk_put(key: str, obj: bytes, suffix: str = ".o") -> None:
     """Store ``obj`` as entry ``key`` (atomically; failures only cost a compile later)."""
     root, _ = trusted_directory()
     secret = _secret(root) if root else None
-    if secret is None:
+    if root is None or secret is None:
         return
     tmp = None
     try:
@@ -256,7 +256,7 @@ def disk_remove(key: str, suffix: str, why: str) -> None:
 
 def _entries(root: str) -> list[tuple[float, int, str]]:
     """(last use, size, path) of every entry and stale temporary file in ``root``."""
-    out = []
+    out: list[tuple[float, int, str]] = []
     try:
         names = os.listdir(root)
     except OSError:

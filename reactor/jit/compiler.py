@@ -160,8 +160,9 @@ class CompiledCode:
                 builder.import_symbol(name, address)
             for name in exports:
                 builder.export_symbol(name)
-            self._tracker = builder.link(_lljit(), f"reactor{next(_library_ids)}")
-        self._addresses = {name: self._tracker[name] for name in exports}
+            tracker = builder.link(_lljit(), f"reactor{next(_library_ids)}")
+        self._tracker = tracker
+        self._addresses = {name: tracker[name] for name in exports}
 
     def unrunnable_reason(self) -> str:
         """Why this code cannot run on this CPU (a target whose features the CPU lacks)."""

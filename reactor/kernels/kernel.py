@@ -200,6 +200,9 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
         raise DSLTypeError(f"kernel '{name}': its signatures need the same numbers of inputs and outputs "
                            f"and different input types")
     group = Kernels(kernels)
+    given = {f.name: getattr(base, f.name) for f in dataclasses.fields(base) if getattr(base, f.name) is not None}
+    group.travel = ("kernel", body, dict(given, name=name, signatures=signatures, args=args,
+                                         **({} if returns is ... else {"returns": returns})))
     doc = (body.__doc__ or f"reactor kernel '{name}'").strip() + "\n\nBuilt for " + \
         "; ".join(f"{k.types}: {k.build.describe()}" for k in kernels) + "."
     ref = group.ufunc_ref
@@ -299,12 +302,22 @@ def _kind(token: str, text: str):
 
 
 class Kernels:
-    """The kernels of one ufunc, one per signature (what the ufunc owns)."""
+    """The kernels of one ufunc, one per signature (what the ufunc owns), and how the ufunc
+    travels (``reactor.kernels.travel``: pickled as its recipe)."""
 
     def __init__(self, kernels: list[Kernel]):
         self.kernels = kernels
         self.ufunc_ref = _UfuncRef()
         self.traps: list = []  # the data of the loops that refuse a dtype (kept with the ufunc)
+        self.travel: tuple = ()
+
+
+def group_of(ufunc) -> "Kernels | None":
+    """The Kernels behind a reactor ufunc (None for any other object)."""
+    with _registry_lock:
+        ref = _registry.get(id(ufunc))
+    group = ref() if ref is not None else None
+    return group if group is not None and group.ufunc_ref._id == id(ufunc) else None
 
 
 class _UfuncRef:
@@ -366,10 +379,8 @@ def kernel(body=None, signatures=None, **kwargs):  # noqa: E302
 def kernel_of(ufunc: np.ufunc, types: str | typing.Sequence[typing.Any] | None = None) -> Kernel:
     """The ``Kernel`` behind a ufunc made by reactor (for its IR and assembly): its first loop,
     or the loop for ``types`` (as in ``ufunc.types``, e.g. ``"dd->d"``, or input dtypes)."""
-    with _registry_lock:
-        ref = _registry.get(id(ufunc))
-    group = ref() if ref is not None else None
-    if group is None or group.ufunc_ref._id != id(ufunc):
+    group = group_of(ufunc)
+    if group is None:
         raise ReactorError(f"{ufunc!r} is not a reactor kernel")
     if types is None:
         return group.kernels[0]
@@ -379,3 +390,6 @@ def kernel_of(ufunc: np.ufunc, types: str | typing.Sequence[typing.Any] | None =
                 tuple(kind.dtype for kind in k.in_kinds)):
             return k
     raise ReactorError(f"{ufunc.__name__} has no loop for {types!r}; it has {', '.join(ufunc.types)}")
+
+
+from . import travel as _travel  # noqa: E402,F401 - registers the pickling of reactor ufuncs

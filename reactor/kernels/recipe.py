@@ -166,7 +166,7 @@ class _Hasher:
         elif isinstance(v, type) and (_in_library(v.__module__) or v.__module__ in ("builtins", "numpy")):
             self.put("class", v.__module__, v.__qualname__)
         elif _in_library(getattr(type(v), "__module__", None)) and (
-                isinstance(v, enum.Enum) or dataclasses.is_dataclass(v) and v.__dataclass_params__.frozen):
+                isinstance(v, enum.Enum) or dataclasses.is_dataclass(v) and getattr(v, "__dataclass_params__").frozen):
             # a reactor object that states its value (a Precision, a Target ...): its state by repr
             self.put("library object", type(v).__qualname__, repr(v))
         else:  # anything else (a constant vec3 or mat3, a user's object) is traced

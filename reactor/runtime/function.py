@@ -21,6 +21,7 @@ import typing
 
 import numpy as np
 
+from ..travel import body_from, find, reduce_body
 from ..build import Build, current_options
 from ..dsl.function import FunctionDef
 from ..dsl.calls import RoutineCall, calls_of
@@ -54,6 +55,12 @@ class Function(FunctionDef):
             return self.emit_call(args)
         return self.compile()(*args)
 
+    def __reduce__(self):
+        """Pickled as its recipe (where it lives, or its body; its options), never its machine code."""
+        where, payload = reduce_body(self, self.body, f"function '{self.name}'")
+        return _rebuild_function, (where, payload, self.name, list(self.signature.params), self.signature.returns,
+                                   dict(self.option_overrides))
+
     def compile(self, **options: typing.Any) -> "Routine":
         """The routine for these build options (compiled once, then cached)."""
         build = self.build_settings(**options)
@@ -62,6 +69,16 @@ class Function(FunctionDef):
             if routine is None:
                 routine = self._compiled[build.key()] = Module([self]).compile_with(build)[self.name]
         return routine
+
+
+def _rebuild_function(where, payload, name, args, returns, options) -> "Function":
+    """The Function pickled by ``Function.__reduce__``, found or built on this side."""
+    found = find(where)
+    if isinstance(found, Function):
+        return found
+    if payload is None:
+        raise ReactorError(f"function {name} cannot be found on this side and came without its body")
+    return Function(body_from(payload), args=args, returns=returns, name=name, **options)
 
 
 @typing.overload

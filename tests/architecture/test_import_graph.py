@@ -15,7 +15,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: reactor's layers, lowest first; a module may import its own layer or lower ones,
 #: and never a sibling package of its own rank.
 LAYERS = {
-    "reactor.errors": 0, "reactor.source": 0, "reactor.targets": 0, "reactor.build": 0, "reactor.ir.types": 0,
+    "reactor.errors": 0, "reactor.source": 0, "reactor.travel": 0, "reactor.targets": 0, "reactor.build": 0, "reactor.ir.types": 0,
     "reactor.ir": 1, "reactor.jit": 1,
     "reactor.dsl": 2,
     "reactor.runtime": 3, "reactor.kernels": 3,
