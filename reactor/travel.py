@@ -43,8 +43,12 @@ def portable_body(body, what: str):
         import cloudpickle
     except ImportError:
         cloudpickle = None
-    if cloudpickle is not None:
-        return ("cloudpickle", cloudpickle.dumps(body))
+    if cloudpickle is not None:  # by value; string annotations resolved here, where their names are
+        try:
+            notes = inspect.get_annotations(body, eval_str=True)
+        except Exception:  # noqa: BLE001 - left as they are
+            notes = None
+        return ("cloudpickle", cloudpickle.dumps(body), notes)
     try:
         source = textwrap.dedent(inspect.getsource(body))
     except (OSError, TypeError):
@@ -93,7 +97,10 @@ def _global_names(code: types.CodeType):
 def body_from(payload):
     if payload[0] == "cloudpickle":
         import cloudpickle
-        return cloudpickle.loads(payload[1])
+        body = cloudpickle.loads(payload[1])
+        if payload[2] is not None:
+            body.__annotations__ = dict(payload[2])
+        return body
     _, source, name, filename, names = payload
     scope: dict = {"__name__": "__reactor_travel__"}
     for key, spec in names.items():

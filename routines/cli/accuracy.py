@@ -11,7 +11,10 @@ Default: a quick sample (every hard region plus ``--samples`` random inputs).
 cos and tan ~2 min: the float64 reference is glibc's), or for pow and atan2
 the stratified sweep of >= 2^30 pairs (routines/lab/pairs.py; atan2(y, x)
 takes y first). For sin, cos and tan the errors inside and outside [-pi, pi]
-are reported apart (Vulkan bounds only the inside).
+are reported apart (Vulkan bounds only the inside). ``--scheduler ADDRESS``
+spreads the exhaustive sweep over a dask cluster (``dask scheduler`` and
+``dask worker ADDRESS`` on any machines with this package; the distributed
+extra) and gives the same figures as the local run.
 """
 from __future__ import annotations
 
@@ -29,21 +32,23 @@ from . import add_quiet, parser as command_parser, positive_int
 
 
 def measure(name: str, precision: str, fma: bool, *, width=None, exhaustive=False, samples=2 ** 20,
-            workers=2, progress=True):
-    """The SweepResult of one variant (see the module docstring)."""
+            workers=2, progress=True, scheduler=None):
+    """The SweepResult of one variant (see the module docstring); ``scheduler``: a dask
+    cluster to spread the exhaustive sweep over."""
     ufunc = jit(name, precision, fma, width)
     if not exhaustive:
         return evaluate(ufunc, name, precision, *sample_inputs(name, samples))
     if name in STRATA_OF:
-        return stratified(ufunc, name, precision, workers=workers, progress=progress)
-    return sweep(ufunc, name, precision, workers=workers, progress=progress)
+        return stratified(ufunc, name, precision, workers=workers, progress=progress, scheduler=scheduler)
+    return sweep(ufunc, name, precision, workers=workers, progress=progress, scheduler=scheduler)
 
 
 def main(argv: list[str]) -> int:
     parser = command_parser("accuracy", __doc__, (
         "exp2 --precision relaxed --fma off",
         "log2 --exhaustive --json out/accuracy/log2_full_fma.json",
-        "pow --samples 100000 --width 8", "sin --precision full --fma on --exhaustive"))
+        "pow --samples 100000 --width 8", "sin --precision full --fma on --exhaustive",
+        "exp2 --exhaustive --scheduler tcp://127.0.0.1:8786"))
     parser.add_argument("function", choices=NAMES)
     parser.add_argument("--precision", choices=PRECISIONS, default="full")
     parser.add_argument("--fma", choices=("on", "off"), default="on")
@@ -54,6 +59,8 @@ def main(argv: list[str]) -> int:
                         help="random inputs in quick mode (default 2^20)")
     parser.add_argument("--workers", type=positive_int, metavar="N", default=2,
                         help="processes of the exhaustive sweep (default 2)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="spread the exhaustive sweep over this dask cluster (the distributed extra)")
     parser.add_argument("--json", metavar="FILE", help="also write the figures as JSON ('-': stdout)")
     add_quiet(parser, "no progress bar (it is shown only on a terminal anyway)")
     args = parser.parse_args(argv)
@@ -61,7 +68,7 @@ def main(argv: list[str]) -> int:
         os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     result = measure(args.function, args.precision, args.fma == "on", width=args.width,
                      exhaustive=args.exhaustive, samples=args.samples, workers=args.workers,
-                     progress=not args.quiet)
+                     progress=not args.quiet, scheduler=args.scheduler)
     print(f"{args.function} {args.precision} fma={args.fma}" + (f" width={args.width}" if args.width else ""))
     print(result.table())
     if args.json:

@@ -31,6 +31,7 @@ Strata run in forked worker processes (the kernel is inherited).
 """
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import sys
 import time
@@ -91,6 +92,12 @@ def _stratum(task):
                     np.full(x.size, y_bits, np.uint32))
 
 
+def _remote_stratum(task, context):
+    """``_stratum`` on a cluster worker."""
+    _init(*context)
+    return _stratum(task)
+
+
 def stratified_pow(ufunc, precision: str, *, seed: int = 0, workers: int = 2, strata: int = STRATA,
                    progress: bool = True) -> SweepResult:
     """Score ``ufunc`` (pow) on the stratified sweep described in the module doc."""
@@ -99,8 +106,9 @@ def stratified_pow(ufunc, precision: str, *, seed: int = 0, workers: int = 2, st
 
 
 def stratified(ufunc, func: str, precision: str, *, seed: int = 0, workers: int = 2,
-               strata: int = STRATA, progress: bool = True) -> SweepResult:
-    """Score ``ufunc`` (``func``: "pow" or "atan2") on the stratified sweep of the module doc."""
+               strata: int = STRATA, progress: bool = True, scheduler=None) -> SweepResult:
+    """Score ``ufunc`` (``func``: "pow" or "atan2") on the stratified sweep of the module doc
+    (``scheduler``: a dask cluster's address or Client to spread the strata over)."""
     if func not in STRATA_OF:
         raise ValueError(f"no stratified sweep for {func!r}; choose one of {', '.join(STRATA_OF)}")
     t0 = time.perf_counter()
@@ -108,12 +116,18 @@ def stratified(ufunc, func: str, precision: str, *, seed: int = 0, workers: int 
     hx, hy = sample_inputs(func, 2 ** 24, seed=seed)
     total.merge(evaluate(ufunc, func, precision, hx, hy))
     tasks = list(enumerate(STRATA_OF[func](seed)[:strata]))
-    ctx = multiprocessing.get_context("fork")
-    with ctx.Pool(workers, initializer=_init, initargs=(ufunc, func, precision, seed)) as pool, \
-            tqdm(total=len(tasks), unit="stratum", file=sys.stderr,
-                 disable=None if progress else True,  # None: only on a terminal
-                 desc=f"{func} {precision}") as bar:
-        for part in pool.imap_unordered(_stratum, tasks):
+    if scheduler is not None:
+        from .cluster import on_cluster
+        pool = contextlib.nullcontext()
+        parts = on_cluster(scheduler, _remote_stratum, tasks, (ufunc, func, precision, seed))
+    else:
+        pool = multiprocessing.get_context("fork").Pool(workers, initializer=_init,
+                                                        initargs=(ufunc, func, precision, seed))
+        parts = pool.imap_unordered(_stratum, tasks)
+    with pool, tqdm(total=len(tasks), unit="stratum", file=sys.stderr,
+                    disable=None if progress else True,  # None: only on a terminal
+                    desc=f"{func} {precision}") as bar:
+        for part in parts:
             total.merge(part)
             bar.update(1)
     total.seconds = time.perf_counter() - t0

@@ -26,6 +26,7 @@ from __future__ import annotations
 import contextlib
 import math
 import multiprocessing
+import pickle
 import sys
 import time
 from dataclasses import dataclass, field
@@ -455,6 +456,20 @@ def _init_worker(ufunc, func, precision):
     _WORKER = _Block(ufunc, func, precision)
 
 
+_REMOTE: dict = {}
+
+
+def _remote_task(task, context):
+    """``_run_task`` on a cluster worker: its scorer made once per worker process and context."""
+    global _WORKER
+    key = pickle.dumps(context)
+    if key not in _REMOTE:
+        _REMOTE.clear()
+        _REMOTE[key] = _Block(*context)
+    _WORKER = _REMOTE[key]
+    return _run_task(task)
+
+
 def _run_task(task):
     lo, hi, y_bits, func, precision, inputs = task
     part = SweepResult(func, precision, inputs)
@@ -675,14 +690,16 @@ def evaluate(ufunc, func, precision, x_bits, y_bits=None) -> SweepResult:
 
 
 def sweep(ufunc, func, precision, *, start=0, stop=2**32, chunk=2**22, workers=2,
-          progress=True, y=None) -> SweepResult:
+          progress=True, y=None, scheduler=None) -> SweepResult:
     """Exhaustively score ``ufunc`` on float32 bit patterns [start, stop).
 
     ``func``: one of :data:`routines.lab.reference.FUNCS`; ``precision``:
     'full' or 'relaxed'; ``chunk``: inputs per task (the progress step);
     ``workers``: forked processes (1: run in this process, no fork);
     ``progress``: tqdm bar on stderr; ``y``: for pow and atan2, the fixed
-    float32 second operand (x, the first, is swept).
+    float32 second operand (x, the first, is swept); ``scheduler``: a dask
+    cluster's address (or Client) to spread the chunks over instead of
+    ``workers`` local processes (``routines.lab.cluster``): the same figures.
     """
     _check(func, precision, y)
     if not 0 <= start < stop <= 2**32:
@@ -693,7 +710,11 @@ def sweep(ufunc, func, precision, *, start=0, stop=2**32, chunk=2**22, workers=2
     tasks = [(lo, min(lo + chunk, stop), y_bits, func, precision, inputs)
              for lo in range(start, stop, chunk)]
     t0 = time.perf_counter()
-    if workers == 1:
+    if scheduler is not None:
+        from .cluster import on_cluster
+        parts = on_cluster(scheduler, _remote_task, tasks, (ufunc, func, precision))
+        pool = contextlib.nullcontext()
+    elif workers == 1:
         _init_worker(ufunc, func, precision)
         parts = map(_run_task, tasks)
         pool = contextlib.nullcontext()

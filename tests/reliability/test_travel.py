@@ -176,3 +176,35 @@ def test_dask_local_cluster_of_processes(shader_module):
         n = np.random.default_rng(6).random((64, 32, 3), dtype=np.float32)
         g = reactor.map_blocks(shader_module.tint, da.from_array(n, chunks=(16, 32, 3)), np.float32(0.5))
         assert np.array_equal(_bits(g.compute()), _bits(shader_module.tint(n, np.float32(0.5))))
+
+
+def test_sweeps_on_a_cluster_give_the_local_figures():
+    distributed = pytest.importorskip("distributed")
+    from routines.lab import sweep
+    from routines.lab.pairs import stratified
+    u, p = routines.jit("log2", "relaxed"), routines.jit("pow")
+    lo, hi = 0x3F000000, 0x3F000000 + (1 << 23)
+    local = sweep(u, "log2", "relaxed", start=lo, stop=hi, chunk=1 << 21, progress=False)
+    local_pairs = stratified(p, "pow", "full", strata=4, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=40) as cluster:
+        remote = sweep(u, "log2", "relaxed", start=lo, stop=hi, chunk=1 << 21, progress=False,
+                       scheduler=cluster.scheduler_address)
+        remote_pairs = stratified(p, "pow", "full", strata=4, progress=False, scheduler=cluster.scheduler_address)
+    for a, b in ((local, remote), (local_pairs, remote_pairs)):
+        ja, jb = a.to_json(), b.to_json()
+        ja.pop("seconds"), jb.pop("seconds")
+        assert ja == jb
+
+
+def test_cluster_example_renders_the_same_bits_everywhere(tmp_path):
+    pytest.importorskip("distributed")
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("reactor_cluster_example", os.path.join(ROOT, "examples",
+                                                                                          "cluster.py"))
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    figures = example.main(["--size", "1024", "--chunk", "256", "--out", str(tmp_path)])
+    runs = [v for v in figures.values() if isinstance(v, dict)]
+    assert len(runs) == 3 and all(r["same_bits"] for r in runs)
+    assert figures["pickle_round_trip_ms"] < 50
