@@ -44,6 +44,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--exhaustive", action="store_true",
                         help="accuracy over all 2^32 inputs (pow, atan2: the stratified pair sweep); ~40 s per variant")
     parser.add_argument("--exhaustive-peers", action="store_true", help="the same for the peers")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="spread the exhaustive sweeps over this dask cluster (the distributed extra)")
     parser.add_argument("--functions", nargs="+", default=list(report.DEFAULT_FUNCTIONS),
                         choices=report.FUNCTIONS + tuple(GROUPS), metavar="F",
                         help=f"any of {' '.join(report.FUNCTIONS)}; trig: {' '.join(report.TRIG)}; "
@@ -64,7 +66,7 @@ def main(argv: list[str]) -> int:
     result = report.run(functions, sizes={s: timing.SIZES[s] for s in sizes},
                         rounds={s: rounds for s in sizes} if rounds else None, samples=samples,
                         exhaustive=args.exhaustive, exhaustive_peers=args.exhaustive_peers,
-                        threads2=not args.no_threads, progress=not args.quiet)
+                        threads2=not args.no_threads, progress=not args.quiet, scheduler=args.scheduler)
     result["settings"]["command"] = "python -m routines report " + " ".join(argv)
     os.makedirs(args.out, exist_ok=True)
     json_path = os.path.join(args.out, "report.json")

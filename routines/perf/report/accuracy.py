@@ -22,19 +22,19 @@ def _summary(r) -> dict:
     return {k: j[k] for k in keep}
 
 
-def _measure(fn, func, precision, sample, exhaustive, progress):
+def _measure(fn, func, precision, sample, exhaustive, progress, scheduler=None):
     from routines.lab import evaluate, sweep
     with np.errstate(all="ignore"):
         if not exhaustive:
             return evaluate(fn, func, precision, *sample)
         if func in ("pow", "atan2"):  # two operands: the stratified pair sweep
             from routines.lab.pairs import stratified
-            return stratified(fn, func, precision, progress=progress)
-        return sweep(fn, func, precision, progress=progress)
+            return stratified(fn, func, precision, progress=progress, scheduler=scheduler)
+        return sweep(fn, func, precision, progress=progress, scheduler=scheduler)
 
 
 def measure_accuracy(variants, peer_list, functions, samples, exhaustive=False,
-                     exhaustive_peers=False, progress=None, show=False) -> None:
+                     exhaustive_peers=False, progress=None, show=False, scheduler=None) -> None:
     """Fill ``accuracy`` of every variant and present peer (in place).
 
     Our variants are measured at width 16; the other widths are checked to be
@@ -49,7 +49,7 @@ def measure_accuracy(variants, peer_list, functions, samples, exhaustive=False,
             for fma in (True, False):
                 group = {v["width"]: v for v in mine if v["precision"] == precision and v["fma"] == fma}
                 ref = group[16]
-                r = _measure(ref["ufunc"], func, precision, sample, exhaustive, show)
+                r = _measure(ref["ufunc"], func, precision, sample, exhaustive, show, scheduler)
                 ref["accuracy"] = _summary(r) | {"measured_at": "w16"}
                 if precision == "full":
                     ref["accuracy"]["full_margin"] = ref["accuracy"]["max_margin"]
@@ -67,7 +67,7 @@ def measure_accuracy(variants, peer_list, functions, samples, exhaustive=False,
                             v["accuracy"] = dict(ref["accuracy"], measured_at="w16 (bit-identical on the sample)")
                         else:
                             v["accuracy"] = _summary(_measure(v["ufunc"], func, precision, sample,
-                                                              exhaustive, show)) | {"measured_at": f"w{w}"}
+                                                              exhaustive, show, scheduler)) | {"measured_at": f"w{w}"}
                 if progress is not None:
                     progress.update(1)
         for p in peer_list:

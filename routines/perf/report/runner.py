@@ -28,7 +28,8 @@ from .variants import DEFAULT_FUNCTIONS, PRECISIONS, WIDTHS, build_variants
 
 
 def run(functions=DEFAULT_FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20, exhaustive=False,
-        exhaustive_peers=False, threads2=True, progress=True, libraries=None, calibrate_ops=None) -> dict:
+        exhaustive_peers=False, threads2=True, progress=True, libraries=None, calibrate_ops=None,
+        scheduler=None) -> dict:
     """Measure everything; returns the report dict (JSON-ready after ``to_json``).
 
     ``sizes``: name -> elements (default :data:`timing.SIZES`); ``rounds``:
@@ -61,7 +62,7 @@ def run(functions=DEFAULT_FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20
     t = time.perf_counter()
     n_acc = len(functions) * 4 + sum(p["present"] for p in peer_list)
     with bar(n_acc, "accuracy" + (" (exhaustive)" if exhaustive else "")) as b:
-        measure_accuracy(variants, peer_list, functions, samples, exhaustive, exhaustive_peers, b,
+        measure_accuracy(variants, peer_list, functions, samples, exhaustive, exhaustive_peers, b, scheduler=scheduler,
                          show=progress)
     phases["accuracy"] = time.perf_counter() - t
 
