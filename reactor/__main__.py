@@ -195,7 +195,7 @@ def _main(argv: list[str]) -> int:
     if args.command == "cache":
         return _cache(args.action)
     with options(**build_options(args)):
-        print(text(load(args.target), args.what))
+        print(text(load(args.target), args.what, args.everything))
     return 0
 
 

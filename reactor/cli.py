@@ -205,8 +205,10 @@ def load(spec: str) -> Any:
         raise ReactorError(f"{where} has no attribute {name!r}") from None
 
 
-def text(obj: Any, what: str) -> str:
-    """The IR ("ir"), optimized IR ("opt") or assembly ("asm") of a Function or kernel ufunc."""
+def text(obj: Any, what: str, everything: bool = False) -> str:
+    """The IR ("ir"), optimized IR ("opt") or assembly ("asm") of a Function or kernel ufunc. For a
+    kernel, the body first: the traced body function (ir) or the loop it is inlined in (opt, asm);
+    ``everything``: the whole module (argument unpacking, tail, strided loop, dispatcher)."""
     import numpy as np
 
     from .kernels.kernel import kernel_of
@@ -219,7 +221,34 @@ def text(obj: Any, what: str) -> str:
         item = kernel_of(obj)
     else:
         raise ReactorError(f"{obj!r} is neither a reactor Function nor a reactor kernel")
-    return {"ir": item.ir, "opt": item.optimized_ir, "asm": item.assembly}[what]
+    code = {"ir": item.ir, "opt": item.optimized_ir, "asm": item.assembly}[what]
+    if everything or isinstance(obj, Function):
+        return code
+    name = f"{item.name}.body" if what == "ir" else f"{item.name}.loop"
+    part = _function_text(code, name, what)
+    if part is None:
+        return code
+    note = ";" if what != "asm" else "#"
+    return (f"{note} {name}: {'the body as traced' if what == 'ir' else 'the loop with the body inlined'}; "
+            f"--all shows the whole module\n{part}")
+
+
+def _function_text(code: str, name: str, what: str) -> str | None:
+    """One function of an IR module or assembly listing (None if it is not there)."""
+    lines = code.splitlines()
+    if what == "asm":
+        start = next((i for i, l in enumerate(lines) if l.strip('"').startswith(f"{name}:") or
+                      l.startswith(f'"{name}":')), None)
+        if start is None:
+            return None
+        end = next((i for i in range(start, len(lines)) if lines[i].startswith(".Lfunc_end")), len(lines) - 1)
+        return "\n".join(lines[start:end + 1])
+    start = next((i for i, l in enumerate(lines) if l.startswith("define") and f'@"{name}"(' in l or
+                  l.startswith("define") and f"@{name}(" in l), None)
+    if start is None:
+        return None
+    end = next((i for i in range(start, len(lines)) if lines[i] == "}"), len(lines) - 1)
+    return "\n".join(lines[start:end + 1])
 
 
 def add_build_arguments(parser: argparse.ArgumentParser) -> None:
@@ -231,6 +260,8 @@ def add_build_arguments(parser: argparse.ArgumentParser) -> None:
                         help="SIMD lanes (default: the target's natural width)")
     parser.add_argument("--target", dest="cpu", choices=TARGETS, help="code-generation target (default host)")
     parser.add_argument("--opt", type=int, choices=(0, 1, 2, 3), help="LLVM optimization level (default 3)")
+    parser.add_argument("--all", dest="everything", action="store_true",
+                        help="the whole module (a kernel's loops, tail and dispatcher), not only its body")
 
 
 def build_options(args: argparse.Namespace) -> dict[str, Any]:

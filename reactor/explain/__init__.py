@@ -21,6 +21,7 @@ of the throughput bound and whether it is on the critical path.
 from __future__ import annotations
 
 import collections
+import re
 import dataclasses
 import typing
 
@@ -101,6 +102,10 @@ class Explanation:
         raise KeyError((line, group))
 
 
+#: register numbers (%ymm3 -> %ymm), general registers and local labels, left out of a diff
+_NORMALIZE = re.compile(r"%([xyz]mm)\d+|%[re]?[a-z0-9]+[dwb]?\b(?<![xyz]mm)|\.L[A-Za-z_]*\d+(?:_\d+)?")
+
+
 class Diff:
     """Two explanations side by side: per line, both builds' machine code."""
 
@@ -114,8 +119,19 @@ class Diff:
     def _ops(row: Line | None) -> collections.Counter:
         return collections.Counter(i.text.split()[0] for i in row.asm) if row else collections.Counter()
 
+    @staticmethod
+    def _code(row: Line | None) -> list[str]:
+        """The line's instructions with register numbers and labels left out (their class kept:
+        xmm, ymm, zmm), so a change of width, operand or order shows, an allocation does not."""
+        if row is None:
+            return []
+        return sorted(_NORMALIZE.sub(lambda m: m.group(1) or ".L", i.text) for i in row.asm)
+
+    def differs(self, x: Line | None, y: Line | None) -> bool:
+        return self._code(x) != self._code(y)
+
     def changed(self) -> list[tuple[Line | None, Line | None]]:
-        return [(x, y) for x, y in self.rows if self._ops(x) != self._ops(y)]
+        return [(x, y) for x, y in self.rows if self.differs(x, y)]
 
     def text(self) -> str:
         out = [f"A: {self.a.settings}", f"B: {self.b.settings}"]
@@ -123,28 +139,29 @@ class Diff:
             row = x or y
             assert row is not None
             ops_a, ops_b = self._ops(x), self._ops(y)
-            mark = "  " if ops_a == ops_b else "≠ "
-            out.append(f"{mark}{row.label:<28} {row.source.strip()}")
-            if ops_a != ops_b:
-                out.append(f"      A {sum(ops_a.values()):3d}: {_op_list(ops_a)}")
+            differs = self.differs(x, y)
+            out.append(f"{'≠ ' if differs else '  '}{row.label:<28} {row.source.strip()}")
+            if differs:
+                same = " (the same operations; operands or registers differ)" if ops_a == ops_b else ""
+                out.append(f"      A {sum(ops_a.values()):3d}: {_op_list(ops_a)}{same}")
                 out.append(f"      B {sum(ops_b.values()):3d}: {_op_list(ops_b)}")
         return "\n".join(out)
 
 
-def explain(target: typing.Any, *, plumbing: bool = False, **options: typing.Any) -> Explanation:
+def explain(obj: typing.Any, /, *, plumbing: bool = False, **options: typing.Any) -> Explanation:
     """Explain a kernel (its ufunc or ``Kernel``) or a ``Function`` built with its own settings,
     or with ``options`` (fma, precision, target, width, opt) instead."""
     from ..jit.compiler import listing
     from ..kernels.kernel import Kernel, kernel_of
     from ..runtime.function import Function, Module
 
-    kern = target if isinstance(target, Kernel) else None
-    if kern is None and not isinstance(target, Function):
+    kern = obj if isinstance(obj, Kernel) else None
+    if kern is None and not isinstance(obj, Function):
         try:
-            kern = kernel_of(target)
+            kern = kernel_of(obj)
         except (ReactorError, TypeError):
             raise ReactorError(f"explain takes a reactor kernel (a ufunc made by @kernel) or a Function, "
-                               f"not {target!r}") from None
+                               f"not {obj!r}") from None
     if kern is not None:
         if options:
             from ..kernels.kernel import build_kernel
@@ -152,9 +169,9 @@ def explain(target: typing.Any, *, plumbing: bool = False, **options: typing.Any
         module = kern.traced_with_lines()
         build, name, region = kern.build, kern.name, f"{kern.name}.loop"
     else:
-        build = target.build_settings(**options)
-        module = Module([target]).build(build, lines=True)
-        name, region = target.name, None
+        build = obj.build_settings(**options)
+        module = Module([obj]).build(build, lines=True)
+        name, region = obj.name, None
     optimized, assembly = listing(module.text, build.target, build.opt)
     assert module.lines is not None
     groups = module.lines.groups

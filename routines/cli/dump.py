@@ -23,5 +23,5 @@ def main(argv: list[str]) -> int:
     if opts["opt"] is not None:  # the ready-made kernels are built once, at the library's level
         raise CommandError("--opt is not a setting of the routines' kernels (python -m reactor dump has it)")
     print(text(jit(args.name, precision=args.precision, fma=opts["fma"], width=opts["width"],
-                   target=opts["target"]), args.what))
+                   target=opts["target"]), args.what, args.everything))
     return 0

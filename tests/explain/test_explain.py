@@ -135,3 +135,33 @@ def test_the_command_line(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "shade.py:6 [pow]" in printed and "B: target=" in printed and out.exists()
     assert main(["explain", f"{src}:shade", "--diff", "fma"]) == 2
+
+
+def test_explain_takes_a_target_and_diffs_see_operands_and_widths():
+    """target= is a build option like the others; a width change is a difference even where the
+    operations are the same (only the register class changes)."""
+    from reactor import Float
+    import reactor
+
+    def body(x: Float) -> Float:
+        return x * 3.0 + 1.0
+    k = reactor.kernel(body, name="explain_width_probe")
+    a = reactor.explain(k, target="sse4")
+    assert "sse4" in a.settings
+    diff = reactor.explain(k, width=8).diff(reactor.explain(k, width=4))
+    assert diff.changed() and "operands or registers differ" in diff.text()
+    assert not reactor.explain(k).diff(reactor.explain(k)).changed()
+
+
+def test_dump_shows_the_body_first_and_all_on_request(tmp_path):
+    import subprocess
+    import sys
+    src = tmp_path / "shade.py"
+    src.write_text("import reactor\nfrom reactor import Float\n\n@reactor.kernel\n"
+                   "def falloff(d: Float) -> Float:\n    return d * 2.0 + 1.0\n")
+    run = lambda *a: subprocess.run([sys.executable, "-m", "reactor", "dump", f"{src}:falloff", *a],  # noqa: E731
+                                    capture_output=True, text=True).stdout
+    body_ir, loop_asm, everything = run("--what", "ir"), run("--what", "asm"), run("--what", "asm", "--all")
+    assert body_ir.startswith("; falloff.body") and "falloff.ufunc" not in body_ir
+    assert loop_asm.startswith("# falloff.loop") and "falloff.ufunc:" not in loop_asm
+    assert "falloff.ufunc:" in everything and len(everything) > len(loop_asm)
