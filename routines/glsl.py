@@ -446,8 +446,13 @@ for _fmt, _count, _bits in (("unorm", 4, 8), ("snorm", 4, 8), ("unorm", 2, 16), 
     _unpack.__doc__ = f"GLSL's {_unpack.__name__}: the vec{_count} of a uint of {_fmt}{_bits} codes."
     PACKING[_pack.__name__], PACKING[_unpack.__name__] = _pack, _unpack
 
+def atan2(y: Operand, x: Operand, **options: typing.Any) -> typing.Any:
+    """``atan(y, x)`` under the name of C, HLSL and ``routines.atan2`` (GLSL spells it ``atan``)."""
+    return _atan2(y, x, **options)
+
+
 BUILTINS: dict[str, typing.Callable[..., typing.Any]] = {
-    **COMPONENTWISE, "atan": atan, **GEOMETRIC, **RELATIONAL, **MATRIX, **PACKING}
+    **COMPONENTWISE, "atan": atan, "atan2": atan2, **GEOMETRIC, **RELATIONAL, **MATRIX, **PACKING}
 
 globals().update(BUILTINS)
 

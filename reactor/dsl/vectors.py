@@ -478,7 +478,8 @@ def vector_variable(type_or_value, init=None, name: str = "var"):
         if not isinstance(init, Vec) else init
     if isinstance(start, Vec) and start.size != cls.size:
         raise DSLTypeError(f"Variable({cls.__name__}, ...): the initial value has {start.size} components")
-    comps = [Variable(value_class(base.with_width(max(base.width, c.width))), c, name=f"{name}.{'xyzw'[i]}")
+    width = max([base.width] + [c.width for c in start._c])  # one width for every component
+    comps = [Variable(value_class(base.with_width(width)), c, name=f"{name}.{'xyzw'[i]}")
              for i, c in enumerate(start._c)]
     var_cls = _VAR_TYPES.get(cls)
     if var_cls is None:

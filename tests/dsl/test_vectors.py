@@ -177,3 +177,16 @@ def test_power_operator():
     np.testing.assert_array_equal(a, x * x * x)
     np.testing.assert_allclose(b, 1 / (x * x), rtol=1e-7)
     np.testing.assert_allclose(c, np.sqrt(np.float32(2)), rtol=1e-6)
+
+
+def test_a_vector_variable_of_a_wide_value_and_numbers_has_one_width_in_a_function():
+    import routines.glsl as gl
+    F8 = reactor.vector_type("Float", 8)
+
+    @reactor.function
+    def swap(x: F8) -> F8:
+        v = reactor.Variable(reactor.vec3, reactor.vec3(x, 2.0, 3.0))
+        v.xz = v.zx
+        return v.x + v.z + gl.atan2(x, 1.0) - gl.atan(x, 1.0)
+    x = np.arange(8, dtype=np.float32)
+    assert np.allclose(swap(x), 3.0 + x, rtol=0, atol=1e-6)  # x + 3 once swapped; atan2 is atan(y, x)
