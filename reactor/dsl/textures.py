@@ -137,6 +137,11 @@ class TextureValue:
             raise DSLTypeError(f"{self.spec.family} is indexed with fetch(x, y ...); [] is for a Table")
         return self._texels([index], normalize=False)
 
+    def __setitem__(self, index, value) -> None:
+        raise DSLTypeError("tables and textures are read-only in a kernel (GLSL's samplers are too); to write "
+                           "per lane, pass a Pointer[Float, \"n\"] to a Function (a scatter: lanes outside [0, n) "
+                           "write nothing), or return the values as the kernel's result")
+
     def fetch(self, *coords) -> typing.Any:
         """The texel at integer coordinates (x first), as Float (a vector for several channels)."""
         coords = _coords(coords, self.spec.ndim, "fetch")

@@ -148,11 +148,16 @@ class Value:
         )
 
     def __index__(self):
-        raise DSLTypeError(f"a {self.vtype.name} value cannot be used as a Python index, count or number "
+        raise DSLTypeError(f"a {self.vtype.name} value cannot index a Python list or tuple, or count a range "
+                           f"(it holds a value per lane): read per lane from a ConstantTable(values, Float) or a "
+                           f"Table parameter, and loop with reactor.For")
+
+    def __float__(self):
+        raise DSLTypeError(f"a {self.vtype.name} value cannot be used as a Python number "
                            f"(math.* and Python's built-ins take numbers: use routines.glsl's cos, floor ... "
                            f"or reactor's Floor, Sqrt ... on DSL values)")
 
-    __float__ = __int__ = __complex__ = __index__  # math.cos(x) asks for one of these
+    __int__ = __complex__ = __float__  # math.cos(x) asks for one of these
 
     def set(self, value: Operand) -> "Value":
         raise DSLTypeError(f"a {self.vtype.name} value (an argument, constant or result) cannot be assigned "

@@ -240,8 +240,11 @@ def _dtype_traps(name: str, kernels) -> list:
                 # integers to a float texture: 0..255 would stay 0..255 (value-preserving casts pass)
                 if not (o.kind.is_float and dt.kind in "biu") or not np.can_cast(dt, o.dtype, "safe"):
                     continue
-                hint = (f"declare {o.texture.family}[u8vec{o.channels}] (or UByte), read as unorm 0..1, or "
-                        f"convert it yourself" if dt == np.uint8 and o.kind.is_float else "convert it yourself")
+                hint = "convert it yourself"
+                if dt == np.uint8 and o.kind.is_float:
+                    texel = (f"{o.texture.family}[UByte] (codes 0..255)" if o.channels == 1 else
+                             f"{o.texture.family}[u8vec{o.channels}] (read as unorm 0..1)")
+                    hint = f"declare {texel}, or {hint}"
                 message = (f"kernel '{name}': {o.name.split(' ', 1)[-1]} is a {o.texture.name} of {o.dtype}, not "
                            f"{dt}: NumPy would convert the {dt} data silently; {hint} "
                            f"(e.g. array.astype(np.{o.dtype}))")

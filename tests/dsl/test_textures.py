@@ -298,3 +298,12 @@ def test_an_integer_image_for_a_float_texture_is_a_clear_error_not_a_silent_conv
         look(np.float32([0.3]), (img * 255).astype(np.uint8))
     with pytest.raises(ValueError, match="core dimension"):
         look(np.float32([0.3]), img[..., :3])
+
+
+def test_writing_a_table_in_a_kernel_says_how_to_scatter():
+    from reactor import Int, Table
+    with pytest.raises(reactor.DSLTypeError, match="read-only in a kernel.*Pointer"):
+        @reactor.kernel
+        def w(i: Int, t: Table[Float]) -> Float:
+            t[i] = 1.0
+            return 0.0

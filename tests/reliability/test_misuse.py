@@ -147,7 +147,7 @@ def m_variable_of_number():
     Function(f).compile()
 
 
-@case("a value as a Python count (range(x))", DSLTypeError, "cannot be used as a Python index, count or number")
+@case("a value as a Python count (range(x))", DSLTypeError, "cannot index a Python list or tuple, or count a range")
 def m_value_as_count():
     def f(i: Int) -> Int:
         for _ in range(i):  # m_value_as_count
