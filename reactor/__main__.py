@@ -13,7 +13,7 @@ from __future__ import annotations
 import sys
 
 from .build import options
-from .cli import ArgumentParser, add_build_arguments, build_options, load, run, text
+from .cli import ArgumentParser, add_build_arguments, build_options, load, positive_int, run, text
 from .errors import ReactorError
 
 EXAMPLES = ("python -m reactor dump examples/custom_routine.py:falloff --what ir",
@@ -80,7 +80,7 @@ def _parser() -> ArgumentParser:
     plan.add_argument("target", help="FILE.py:NAME or package.module:NAME (a @kernel ufunc)")
     plan.add_argument("--input", action="append", default=[], metavar="NAME=DOMAIN", help="an input's domain")
     plan.add_argument("--output", default="unorm8", metavar="FORMAT", help="what the scene stores (unorm8)")
-    plan.add_argument("--samples", type=int, default=1 << 18, metavar="N", help="rows of a sampled check")
+    plan.add_argument("--samples", type=positive_int, default=1 << 18, metavar="N", help="rows of a sampled check")
     plan.add_argument("--save", metavar="FILE", help="write the plan as JSON (reactor.Plan.load reads it)")
     plan.add_argument("--verbose", action="store_true", help="each build of the search as it is made")
     cache = sub.add_parser("cache", help="show or empty the disk cache of compiled code",
@@ -137,8 +137,6 @@ def _plan(args) -> int:
         if not eq or not name:
             raise ReactorError(f"--input takes NAME=DOMAIN (x=unorm8, k=0.5,1,2, t=0:1), not {spec!r}")
         inputs[name] = _domain(domain)
-    if args.samples < 1:
-        raise ReactorError(f"--samples must be at least 1, not {args.samples}")
     result = plan(load(args.target), inputs=inputs, output=_output(args.output), samples=args.samples,
                   progress=args.verbose)
     print(result)

@@ -15,7 +15,8 @@ scene's pixels, so "exhaustive" means: every pixel of that render):
   (GL_FRAMEBUFFER_SRGB: decode with the IEC 61966-2-1 curve, encode again); unorm8 and unorm10.
 * ``exposure``: a half-float HDR value (every finite float16) times 2^stops for five exposure
   stops, Reinhard, sRGB-encoded; unorm8 and unorm10.
-* ``linear_half``: an 8-bit sRGB texture converted to a linear half-float target; float16 and unorm16.
+* ``linear_half``: an 8-bit sRGB texture converted to a linear half-float target; float16, unorm16
+  and unorm8.
 * ``tonemap`` (three.js ACES + AgX + sRGB OETF on an HDR chart), ``gltf_pbr`` (glTF viewer GGX),
   ``raymarch`` (sphere tracer with soft shadows and reflections): unorm8 and one wider format.
 """
@@ -87,7 +88,7 @@ def scenes(size: int) -> list[tuple[str, object, dict, list, int]]:
              ("raymarch", ["unorm8", "unorm16"], 1 << 16)]
     found = [("srgb_blit", srgb_blit, {"c": "unorm8"}, ["unorm8", "unorm10"], 1 << 20),
              ("exposure", exposure, {"x": "float16", "stops": STOPS}, ["unorm8", "unorm10"], 1 << 20),
-             ("linear_half", linear_half, {"c": "unorm8"}, ["float16", "unorm16"], 1 << 20)]
+             ("linear_half", linear_half, {"c": "unorm8"}, ["float16", "unorm16", "unorm8"], 1 << 20)]
     for name, formats, timing in ports:
         port_size = size if name != "raymarch" else size // 2
         u, inputs = _port(name, port_size)

@@ -314,8 +314,8 @@ def _floor_mod(em, vt, i, n):
     dt, wide = vt.with_kind("Double"), vt.with_kind(T.INDEX_KIND)
     zero = T.const(vt, 0)
     n = em.select(ops.compare(em, vt, "eq", n, zero), T.const(vt, 1), n, name="period")  # n = 0: i mod 1
-    inverse = em.fdiv(T.const(dt, 1.0), ops.convert(em, vt, dt, n), name="period.inverse")
-    quotient = ops.unary(em, "floor", dt, em.fmul(ops.convert(em, vt, dt, i), inverse, name="quotient"))
+    inverse = ops.binary(em, "div", dt, T.const(dt, 1.0), ops.convert(em, vt, dt, n))
+    quotient = ops.unary(em, "floor", dt, ops.binary(em, "mul", dt, ops.convert(em, vt, dt, i), inverse))
     q = ops.convert(em, dt, wide, quotient, saturate=False)  # |quotient| <= 2^31: always in range
     i64, n64 = ops.convert(em, vt, wide, i), ops.convert(em, vt, wide, n)
     r = ops.binary(em, "sub", wide, i64, ops.binary(em, "mul", wide, q, n64))

@@ -94,8 +94,9 @@ class Plan:
                          f"{'' if ms is None else f'{ms:9.3f}'}")
         ref = self.times_ms.get(f"all {TIERS[-1]}")
         if ref and self.times_ms.get("plan"):
-            lines.append(f"  plan: {ref / self.times_ms['plan']:.2f}x the speed of all {TIERS[-1]} "
-                         f"({self.timing_rows:,} elements, same run)")
+            same = " (the same machine code)" if ref == self.times_ms["plan"] else ""
+            lines.append(f"  plan: {ref / self.times_ms['plan']:.2f}x the speed of all {TIERS[-1]}{same} "
+                         f"({self.timing_rows:,} elements, one thread, median of 41, same run)")
         return "\n".join(lines)
 
     def to_json(self) -> dict:
@@ -202,24 +203,34 @@ def _rebuild(k, build_kernel, sites, precision):
                         sites=sites)
 
 
-def _time(search: Search, ufuncs: dict, rows: int, repeats: int = 11) -> dict:
-    """Best time (ms) of one call of each distinct build on ``rows`` elements (the check rows
-    repeated), the builds interleaved in every round (same run); labels of one build share its time."""
+def _time(search: Search, ufuncs: dict, rows: int, repeats: int = 41) -> dict:
+    """Median time (ms) of one call of each distinct build on ``rows`` elements (the check rows
+    repeated), on one thread, the builds interleaved in every round (same run); labels whose builds
+    are the same machine code share one time (a plan that lowers nothing is not "faster")."""
+    from ..kernels.kernel import kernel_of
+    from ..kernels.parallel import configure, settings
+
     check = search.check
     reps = max(1, -(-rows // check.size))
     columns = {n: np.concatenate([v] * reps)[:rows] for n, v in check.columns.items()}
     args = search.arguments(columns)
-    distinct = {id(u): u for u in ufuncs.values()}
-    best = {key: float("inf") for key in distinct}
-    with np.errstate(all="ignore"):
-        for u in distinct.values():
-            u(*args)  # warm
-        for _ in range(repeats):
-            for key, u in distinct.items():
-                t0 = time.perf_counter()
-                u(*args)
-                best[key] = min(best[key], time.perf_counter() - t0)
-    return {label: best[id(u)] * 1e3 for label, u in ufuncs.items()}
+    code = {label: kernel_of(u).code.key for label, u in ufuncs.items()}
+    distinct = {code[label]: u for label, u in ufuncs.items()}
+    samples: dict = {key: [] for key in distinct}
+    saved = settings()
+    configure(threads=1)  # the machine's other core is someone else's noise
+    try:
+        with np.errstate(all="ignore"):
+            for u in distinct.values():
+                u(*args)  # warm
+            for _ in range(repeats):
+                for key, u in distinct.items():
+                    t0 = time.perf_counter()
+                    u(*args)
+                    samples[key].append(time.perf_counter() - t0)
+    finally:
+        configure(threads=saved[0], threshold=saved[1])
+    return {label: float(np.median(samples[code[label]])) * 1e3 for label in ufuncs}
 
 
 def _fmt(v) -> str:

@@ -142,7 +142,8 @@ def rows_to_check(names: list[str], declared: dict[str, typing.Any], samples: in
         grids = np.meshgrid(*[np.arange(s) for s in sizes], indexing="ij")
         return Check(_columns(factors, [g.ravel() for g in grids]), True, f"{description} = {total:,} rows, every one")
     rng = np.random.default_rng(seed)
-    count = max([samples] + [d.samples or 0 for _, d in factors if isinstance(d, Range)])
+    declared_counts = [d.samples for _, d in factors if isinstance(d, Range) and d.samples]
+    count = max(declared_counts) if declared_counts else samples  # a Range's own sample size wins
     picks: list[np.ndarray] = []
     for _, d in factors:
         if isinstance(d, Range):

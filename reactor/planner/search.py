@@ -169,7 +169,9 @@ class Search:
             cand = self.compare(self.build(_site_tuple(trial, self.fma), self.top))
             self.log(f"  + {routine} at {_short(where)} {tier}: changes {cand.changed:,}, "
                      f"{cand.cycles:.2f} cycles/element")
-            if cand.changed == 0 and cand.cycles <= best.cycles + 1e-9:
+            # kept only if it changes the machine code (where a tier is the same code on this target,
+            # e.g. rsqrt without AVX-512's estimate, lowering it would claim a saving there is not)
+            if cand.changed == 0 and cand.cycles <= best.cycles + 1e-9 and _code(cand) != _code(best):
                 chosen, best = trial, cand
         return _site_tuple(chosen, self.fma), best
 
@@ -191,6 +193,12 @@ class Search:
             except ReactorError:
                 report[(where, routine)] = None
         return report
+
+
+def _code(cand) -> str:
+    """The key of a candidate build's machine code."""
+    from ..kernels.kernel import kernel_of
+    return kernel_of(cand.ufunc).code.key
 
 
 def cycles_per_element(kern) -> float:

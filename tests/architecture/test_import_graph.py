@@ -19,6 +19,7 @@ LAYERS = {
     "reactor.ir": 1, "reactor.jit": 1,
     "reactor.dsl": 2,
     "reactor.runtime": 3, "reactor.kernels": 3,
+    "reactor.explain": 4, "reactor.planner": 4,
     "reactor.cli": 4, "reactor.__main__": 4, "reactor": 4,
 }
 #: Where llvmlite may be imported: behind the seam, and the measurement tools that read optimized IR.
@@ -58,7 +59,8 @@ def _imports(name: str, path: pathlib.Path):
 def _layer(module: str):
     best = None
     for prefix, rank in LAYERS.items():
-        if module == prefix or module.startswith(prefix + "."):
+        # "reactor" is the package's face only: a module of its own must be in the map
+        if module == prefix or prefix != "reactor" and module.startswith(prefix + "."):
             if best is None or len(prefix) > len(best[0]):
                 best = (prefix, rank)
     return best

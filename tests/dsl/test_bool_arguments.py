@@ -26,6 +26,17 @@ def test_routine_scalar_argument_reads_every_byte():
         assert r(arg) == float(WANT[byte])
 
 
+@pytest.mark.parametrize("width", [4, 8, 16])
+def test_routine_vector_argument_reads_every_byte(width):
+    """A Bool4/8/16 argument from a bool array whose bytes are 0..255 (the path that read the low bit)."""
+    import reactor
+    BoolW, IntW = reactor.vector_type("Bool", width), reactor.vector_type("Int", width)
+    r = Function(lambda b: Select(b, IntW(1), IntW(0)), args=[BoolW], returns=IntW,
+                 name=f"bool{width}_arg").compile()
+    for chunk in BYTES.reshape(-1, width):
+        assert np.array_equal(r(chunk.view(np.bool_)), (chunk != 0).astype(np.int32))
+
+
 @pytest.mark.parametrize("width", [1, 4, 8, 16])
 def test_pointer_loads_read_every_byte(width):
     def body(p: Pointer[Bool, 256], out: Pointer[Int, 256]) -> None:

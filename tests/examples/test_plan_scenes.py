@@ -17,7 +17,7 @@ def test_scenes_plan_with_no_change(tmp_path):
                      "gltf_pbr"])
     assert (tmp_path / "plans.json").exists() and (tmp_path / "chart.png").exists()
     by = {(x["scene"], x["format"]): x for x in r["results"]}
-    assert len(by) == 8
+    assert len(by) == 9  # linear_half: float16, unorm16 and unorm8
     for x in r["results"]:
         p = x["plan"]
         assert p["changes"]["plan"] == 0 and p["proof"] == "exhaustive"
