@@ -356,7 +356,7 @@ def determinant(m: Mat) -> Value:
     if n == 2:
         return m[0][0] * m[1][1] - m[1][0] * m[0][1]
     cols = list(m)
-    total = None
+    total: typing.Any = None
     for i in range(n):
         minor = mat_type(n - 1)._of([vec_type("Float", n - 1)._of([cols[j][r] for r in range(n) if r != i])
                                      for j in range(1, n)])
@@ -438,12 +438,12 @@ def unpackHalf2x16(u: Value) -> Vec:  # noqa: N802 - GLSL's name
 
 PACKING: dict[str, typing.Callable[..., typing.Any]] = {"packHalf2x16": packHalf2x16,
                                                         "unpackHalf2x16": unpackHalf2x16}
-for _fmt, _count, _bits in (("unorm", 4, 8), ("snorm", 4, 8), ("unorm", 2, 16), ("snorm", 2, 16)):
-    _pack, _unpack = _packer(_fmt, _count, _bits)
-    _pack.__name__ = f"pack{_fmt.title()}{_count}x{_bits}"
-    _unpack.__name__ = f"unpack{_fmt.title()}{_count}x{_bits}"
-    _pack.__doc__ = f"GLSL's {_pack.__name__}: {_count} channels as {_fmt}{_bits} codes in a uint, first lowest."
-    _unpack.__doc__ = f"GLSL's {_unpack.__name__}: the vec{_count} of a uint of {_fmt}{_bits} codes."
+for _fmt, _lanes, _width in (("unorm", 4, 8), ("snorm", 4, 8), ("unorm", 2, 16), ("snorm", 2, 16)):
+    _pack, _unpack = _packer(_fmt, _lanes, _width)
+    _pack.__name__ = f"pack{_fmt.title()}{_lanes}x{_width}"
+    _unpack.__name__ = f"unpack{_fmt.title()}{_lanes}x{_width}"
+    _pack.__doc__ = f"GLSL's {_pack.__name__}: {_lanes} channels as {_fmt}{_width} codes in a uint, first lowest."
+    _unpack.__doc__ = f"GLSL's {_unpack.__name__}: the vec{_lanes} of a uint of {_fmt}{_width} codes."
     PACKING[_pack.__name__], PACKING[_unpack.__name__] = _pack, _unpack
 
 def atan2(y: Operand, x: Operand, **options: typing.Any) -> typing.Any:
