@@ -157,11 +157,7 @@ def _secret(root: str) -> bytes | None:
                   f"the disk cache")
             return None
         finally:
-            if tmp is not None:
-                try:
-                    os.unlink(tmp)
-                except OSError:
-                    pass
+            _remove(tmp)
         return key
     with os.fdopen(fd, "rb") as f:
         st = os.fstat(f.fileno())
@@ -177,6 +173,17 @@ def _secret(root: str) -> bytes | None:
         return None
     _secrets[ident] = key
     return key
+
+
+def _remove(path: str | None) -> bool:
+    """Delete ``path`` if there is one; whether it went."""
+    if path is None:
+        return False
+    try:
+        os.unlink(path)
+        return True
+    except OSError:
+        return False
 
 
 def _mac(secret: bytes, name: str, payload: bytes) -> bytes:
@@ -233,11 +240,7 @@ def disk_put(key: str, obj: bytes, suffix: str = ".o") -> None:
     except OSError as exc:  # a full or read-only disk: the entry is compiled again next time
         _warn(f"reactor: cannot write to the cache {root} ({exc.strerror}); entries are not kept")
     finally:
-        if tmp is not None:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
+        _remove(tmp)
     _bound(root)
 
 
@@ -246,10 +249,7 @@ def disk_remove(key: str, suffix: str, why: str) -> None:
     path = entry_path(key, suffix)
     if path is None:
         return
-    try:
-        os.unlink(path)
-    except OSError:
-        pass
+    _remove(path)
     warnings.warn(f"reactor: removed the cache entry {path} ({why}); it is compiled again",
                   CacheWarning, stacklevel=3)
 
@@ -280,11 +280,8 @@ def _bound(root: str) -> None:
     for _, size, path in sorted(entries):
         if total <= bound:
             break
-        try:
-            os.unlink(path)
+        if _remove(path):
             total -= size
-        except OSError:
-            pass
 
 
 def info() -> dict:
@@ -304,11 +301,7 @@ def clear() -> int:
     root, _ = trusted_directory()
     removed = 0
     for _, _, path in _entries(root) if root else ():
-        try:
-            os.unlink(path)
-            removed += 1
-        except OSError:
-            pass
+        removed += _remove(path)
     return removed
 
 
