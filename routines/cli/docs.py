@@ -118,8 +118,11 @@ def _speed_rows(name: str, root: str):
     how = "by `python -m routines bench --json out/bench.json`"
     if not any(r["function"] == name for r in data.get("rows", [])):
         data = {"size": 65536, "rows": time_now(name)}
+        import reactor
+        host = reactor.get_target("host")
         how = ("by `python -m routines docs` (`routines.cli.docs.time_now`: `python -m routines bench`'s "
-               "method and peers) on the machine that wrote this page")
+               f"method and peers) on the machine that wrote this page (LLVM CPU {host.cpu}, "
+               f"{host.natural_width} float32 lanes)")
     rows = list(header)
     for r in data["rows"]:
         if r["function"] != name:
