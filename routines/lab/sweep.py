@@ -141,9 +141,11 @@ class SweepResult:
     def merge(self, other: SweepResult) -> None:
         """Fold ``other`` (same func/precision) into this result."""
         self.count += other.count
-        for name in ("ulp32", "ulp16", "margin"):
-            if getattr(other, f"max_{name}") > getattr(self, f"max_{name}"):
-                setattr(self, f"max_{name}", getattr(other, f"max_{name}"))
+        for name in ("ulp32", "ulp16", "margin"):  # ties go to the lowest input: any merge order agrees
+            theirs, ours = getattr(other, f"max_{name}"), getattr(self, f"max_{name}")
+            if theirs > ours or theirs == ours and _lower(getattr(other, f"max_{name}_case"),
+                                                          getattr(self, f"max_{name}_case")):
+                setattr(self, f"max_{name}", theirs)
                 setattr(self, f"max_{name}_case", getattr(other, f"max_{name}_case"))
         self.nonconforming += other.nonconforming
         for k, v in other.special_mismatches.items():
@@ -152,13 +154,13 @@ class SweepResult:
         self.special_examples = _first(self.special_examples + other.special_examples)
         self.flush_examples = sorted(self.flush_examples + other.flush_examples,
                                      key=Case.key)[:EXAMPLES]
-        self.worst = sorted(self.worst + other.worst,
-                            key=lambda c: -c.margin)[:WORST]
+        self.worst = sorted(self.worst + other.worst, key=_worst_order)[:WORST]
         for name, theirs in other.regions.items():
             ours = self.regions.setdefault(name, _region_stats())
             ours["count"] += theirs["count"]
             for key in _REGION_KEYS:
-                if theirs[key] > ours[key]:
+                if theirs[key] > ours[key] or theirs[key] == ours[key] and _lower(theirs[key + "_at"],
+                                                                                  ours[key + "_at"]):
                     ours[key], ours[key + "_at"] = theirs[key], theirs[key + "_at"]
 
     def to_json(self) -> dict:
@@ -223,6 +225,15 @@ _REGION_KEYS = ("max_abs", "max_ulp32", "max_ulp16", "max_margin")
 
 def _region_stats():
     return {"count": 0} | {k: v for key in _REGION_KEYS for k, v in ((key, 0.0), (key + "_at", None))}
+
+
+def _lower(a, b) -> bool:
+    """Whether case ``a`` is at a lower input than case ``b`` (a tie-break independent of order)."""
+    return a is not None and (b is None or a.key() < b.key())
+
+
+def _worst_order(c):
+    return (-c.margin, c.key())
 
 
 def _first(examples):
@@ -439,7 +450,7 @@ class _Block:
         if cand.size:
             result.worst = sorted(
                 result.worst + [self._case(i, xb, yb, got, ref, e32, e16, m, "scored")
-                                for i in cand], key=lambda c: -c.margin)[:WORST]
+                                for i in cand], key=_worst_order)[:WORST]
 
     @staticmethod
     def _case(i, xb, yb, got, ref, e32, e16, m, category):
