@@ -14,6 +14,11 @@
    is installed (it needs libLLVM: Debian's libllvm19); otherwise reported absent.
 
 Writes ``DIR/compile.json`` and ``DIR/compile.png`` (ms against operations, log-log).
+
+``--pipelines`` measures instead, per optimization setting (``opt`` 1, 2, 3 = reactor's own pass
+pipeline, and ``"llvm-o3"`` = LLVM's full O3): the cold build of a PBR shader and of the exp2, log2
+and pow kernels, and each kernel's speed (ns/element at 64K elements, one thread, median of 101
+calls interleaved across the settings, same run).
 """
 from __future__ import annotations
 
@@ -115,6 +120,55 @@ def build_named(name):
     return time.perf_counter() - t, made
 
 
+def pipelines(repeats: int = 5) -> list[dict]:
+    """Cold build and kernel speed of the named kernels per optimization setting (same run)."""
+    import numpy as np
+
+    import reactor
+    from reactor.jit import cache
+    from reactor.kernels import parallel
+
+    settings = (1, 2, 3, "llvm-o3")
+    bodies = {}
+    for name in ("pbr", "routines:exp2", "routines:log2", "routines:pow"):
+        _, made = build_named(name)
+        k = reactor.kernel_of(made[0])
+        bodies[name] = (k.body, k.name, list(k.signature.params), k.signature.returns)
+    rows, kernels = [], {}
+    for name, (body, kname, args, returns) in bodies.items():
+        for opt in settings:
+            times = []
+            for rep in range(repeats):
+                cache.memory_clear()
+                t = time.perf_counter()
+                u = reactor.kernel(body, name=f"{kname}_o{opt}_{rep}", args=args, returns=returns, opt=opt,
+                                   cache=False)
+                times.append(time.perf_counter() - t)
+            kernels[name, opt] = u
+            rows.append({"kernel": name, "opt": opt, "cold_ms": 1e3 * statistics.median(times)})
+    saved = parallel.settings()
+    parallel.configure(threads=1)
+    x = np.random.default_rng(0).random(1 << 16, dtype=np.float32) + np.float32(0.25)
+    samples: dict = {key: [] for key in kernels}
+    for _ in range(101):
+        for key, u in kernels.items():
+            operands = [x] * u.nin
+            t = time.perf_counter()
+            u(*operands)
+            samples[key].append(time.perf_counter() - t)
+    parallel.configure(threads=saved[0], threshold=saved[1])
+    for row in rows:
+        row["ns_per_element"] = 1e9 * statistics.median(samples[row["kernel"], row["opt"]]) / x.size
+    for name in bodies:
+        base = next(r for r in rows if r["kernel"] == name and r["opt"] == 3)
+        for r in rows:
+            if r["kernel"] == name:
+                print(f"{name:14s} opt={str(r['opt']):8s} cold {r['cold_ms']:7.1f} ms "
+                      f"({r['cold_ms'] / base['cold_ms']:.2f}x opt 3)   {r['ns_per_element']:.3f} ns/element "
+                      f"({r['ns_per_element'] / base['ns_per_element']:.3f}x opt 3)", flush=True)
+    return rows
+
+
 def fresh_process(jobs, cache_dir):
     env = dict(os.environ, REACTOR_CACHE_DIR=cache_dir, PYTHONPATH=ROOT)
     env.pop("REACTOR_CACHE", None)
@@ -166,8 +220,16 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="fewer sizes and repeats")
     parser.add_argument("--json")
     parser.add_argument("--out", default="out")
+    parser.add_argument("--pipelines", action="store_true",
+                        help="compile time and kernel speed per optimization setting (1, 2, 3, llvm-o3)")
     args = parser.parse_args(argv)
     os.environ["REACTOR_CACHE"] = "0"  # cold builds: no disk cache (the memory cache is cleared too)
+    if args.pipelines:
+        rows = pipelines(2 if args.quick else 5)
+        if args.json:
+            with open(args.json, "w") as f:
+                json.dump(rows, f, indent=1)
+        return rows
     import reactor
     from reactor.jit import cache
     from reactor.kernels import parallel

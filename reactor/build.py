@@ -90,7 +90,8 @@ class BuildOptions:
                never a fused instruction; None: fused where the target has FMA.
     width:     SIMD width of width-generic code (``SIMD.Float``); None: the
                target's natural width (16 with AVX-512, 8 with AVX2, else 4).
-    opt:       LLVM optimization level 0..3.
+    opt:       LLVM optimization level 0..3 (3: reactor's own pass pipeline), or "llvm-o3"
+               (LLVM's full O3 pipeline, for comparison).
     target:    a name from ``reactor.TARGETS`` ("host", "avx512", "avx2", "sse4").
     cache:     use the on-disk object cache.
     precision: the default precision of the math built-ins ("full", "relaxed").
@@ -100,7 +101,7 @@ class BuildOptions:
 
     fma: bool | None = None
     width: int | None = None
-    opt: int | None = None
+    opt: int | str | None = None
     target: str | None = None
     cache: bool | None = None
     precision: str | None = None
@@ -121,8 +122,8 @@ class BuildOptions:
             names = ", ".join(map(str, WIDTHS[:-1])) + f" or {WIDTHS[-1]}"
             raise ReactorError(f"SIMD width must be {names}, not {width!r}")
         opt = 3 if self.opt is None else self.opt
-        if opt not in (0, 1, 2, 3):
-            raise ReactorError(f"optimization level must be 0..3, not {opt!r}")
+        if opt not in (0, 1, 2, 3, "llvm-o3"):
+            raise ReactorError(f"optimization level must be 0..3 or 'llvm-o3', not {opt!r}")
         fma = target.has_fma if self.fma is None else bool(self.fma)
         precision = Precision.of(self.precision or Precision.FULL)
         return Build(target, width, fma, opt, True if self.cache is None else bool(self.cache), precision,
@@ -136,7 +137,7 @@ class Build:
     target: Target
     width: int
     fma: bool
-    opt: int
+    opt: int | str
     cache: bool
     precision: Precision
     sites: tuple[Site, ...] = ()  # per call site settings (a plan's)
