@@ -40,7 +40,7 @@ def toolchain() -> str:
     return f"reactor pipeline {CACHE_VERSION}, llvmlite {llvmlite.__version__}"
 
 
-def cache_key(ir_text: str, target: Target, opt: int) -> str:
+def cache_key(ir_text: str, target: Target, opt: int | str) -> str:
     h = hashlib.sha256()
     for part in (CACHE_VERSION, llvmlite.__version__, target.key(), str(opt), ir_text):
         h.update(part.encode())
@@ -58,7 +58,7 @@ REACTOR_PIPELINE = ("always_inliner", "global_dead_code_eliminate", "sroa", "ins
                     "simplify_cfg", "aggressive_dce")
 
 
-def pipeline(ir_text: str, target: Target, opt: int) -> llvm.ModuleRef:
+def pipeline(ir_text: str, target: Target, opt: int | str) -> llvm.ModuleRef:
     """Parse, verify and optimize IR text for ``target``: ``opt`` 3 is reactor's pipeline
     (``REACTOR_PIPELINE``), 0-2 LLVM's default pipelines, "llvm-o3" LLVM's O3."""
     with _lock:
@@ -93,7 +93,7 @@ def cached_object(key: str, use_disk_cache: bool = True) -> tuple[bytes | None, 
     return obj, "disk cache"
 
 
-def listing(ir_text: str, target: Target, opt: int) -> tuple[str, str]:
+def listing(ir_text: str, target: Target, opt: int | str) -> tuple[str, str]:
     """The optimized IR and the assembly of ``ir_text`` (nothing is loaded or cached)."""
     mod = pipeline(ir_text, target, opt)
     with _lock:
@@ -107,7 +107,7 @@ class CompiledCode:
     given without it, from the object cached under that key, with
     ``ir_source()`` building the IR only if it is asked for (``ir_text``)."""
 
-    def __init__(self, ir_text: str | None, target: Target, opt: int, exports: tuple[str, ...],
+    def __init__(self, ir_text: str | None, target: Target, opt: int | str, exports: tuple[str, ...],
                  use_disk_cache: bool = True, imports: dict[str, int] | None = None, *,
                  key: str | None = None, obj: bytes | None = None, source: str = "memory cache",
                  ir_source=None):
