@@ -135,7 +135,7 @@ def function_of(program: Program, name: str = "fuzz") -> reactor.Function:
         _with_signature(drive_body, drive_names),
         args=[Pointer[_generic(t.kind), "n"] for t in program.inputs]
         + [Pointer[_generic(k), "n"] for k in out_kinds] + [reactor.Int],
-        returns=None, name=name, fma=program.fma, opt=program.opt, target=program.target, cache=False)
+        returns=None, name=name, fma=build_fma(program), opt=program.opt, target=program.target, cache=False)
 
 
 def kernel_of_program(program: Program, width: int, name: str = "fuzz"):
@@ -153,4 +153,13 @@ def kernel_of_program(program: Program, width: int, name: str = "fuzz"):
     return reactor.kernel(
         _with_signature(body, [f"x{k}" for k in range(nin)]),
         args=[vector_type(t.kind, 1) for t in program.inputs], returns=ret if len(ret) > 1 else ret[0],
-        name=name, width=width, fma=program.fma, opt=program.opt, target=program.target, cache=False)
+        name=name, width=width, fma=build_fma(program), opt=program.opt, target=program.target, cache=False)
+
+
+def build_fma(program) -> bool | str:
+    """The program's FMA setting as a build option: fused where the target has no FMA is the
+    exact software emulation (fma=True would be refused there)."""
+    if program.fma and not reactor.get_target(program.target).has_fma:
+        return "emulate"
+    return program.fma
+

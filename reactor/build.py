@@ -86,8 +86,10 @@ def _sites(value) -> tuple[Site, ...]:
 class BuildOptions:
     """The options a user gives (None: the context's or the target's default).
 
-    fma:       True fuses ``MulAdd``; False emits a rounded multiply and an add and
-               never a fused instruction; None: fused where the target has FMA.
+    fma:       True fuses ``MulAdd`` (an error on a target without FMA: no build calls libm's fmaf);
+               False emits a rounded multiply and an add and never a fused instruction; None
+               (the default): fused where the target has FMA; "emulate": fused everywhere, in
+               software where the target has no FMA (exact, vectorized, ~15 instructions each).
     width:     SIMD width of width-generic code (``SIMD.Float``); None: the
                target's natural width (16 with AVX-512, 8 with AVX2, else 4).
     opt:       LLVM optimization level 0..3 (3: reactor's own pass pipeline), or "llvm-o3"
@@ -99,7 +101,7 @@ class BuildOptions:
                build's and the call's own precision and FMA at that site.
     """
 
-    fma: bool | None = None
+    fma: bool | str | None = None
     width: int | None = None
     opt: int | str | None = None
     target: str | None = None
@@ -114,6 +116,21 @@ class BuildOptions:
             raise ReactorError(f"unknown build option(s): {', '.join(sorted(unknown))}")
         return dataclasses.replace(self, **given)
 
+    def _fma(self, target: Target) -> bool:
+        """Whether ``MulAdd`` fuses: None follows the target; True needs the target's FMA;
+        "emulate" fuses everywhere (exact, vectorized, in software where the target has no FMA)."""
+        if self.fma is None:
+            return target.has_fma
+        if self.fma == "emulate":
+            return True
+        if self.fma not in (True, False, 0, 1):
+            raise ReactorError(f"fma must be True, False, None or 'emulate', not {self.fma!r}")
+        if self.fma and not target.has_fma:
+            raise ReactorError(f"fma=True: target '{target.name}' ({target.cpu}) has no fused multiply-add "
+                               f"instruction; use fma=None (fused where the target has it), fma=False, or "
+                               f"fma='emulate' (fused results computed exactly in software, vectorized, slower)")
+        return bool(self.fma)
+
     def resolved(self) -> "Build":
         """The settings of a build with these options (target-dependent defaults filled in)."""
         target = self.target if isinstance(self.target, Target) else get_target(self.target or "host")
@@ -124,7 +141,7 @@ class BuildOptions:
         opt = 3 if self.opt is None else self.opt
         if opt not in (0, 1, 2, 3, "llvm-o3"):
             raise ReactorError(f"optimization level must be 0..3 or 'llvm-o3', not {opt!r}")
-        fma = target.has_fma if self.fma is None else bool(self.fma)
+        fma = self._fma(target)
         precision = Precision.of(self.precision or Precision.FULL)
         return Build(target, width, fma, opt, True if self.cache is None else bool(self.cache), precision,
                      _sites(self.sites) if self.sites is not None else ())
@@ -160,8 +177,9 @@ class Build:
         return None
 
     def describe(self) -> str:
-        """``target=avx512 width=16 fma=on precision=full``."""
-        return (f"target={self.target.name} width={self.width} fma={'on' if self.fma else 'off'} "
+        """``target=avx512 width=16 fma=on precision=full`` (fma=emulated where the target has none)."""
+        fma = ("on" if self.target.has_fma else "emulated") if self.fma else "off"
+        return (f"target={self.target.name} width={self.width} fma={fma} "
                 f"precision={self.precision.value}" + (f" sites={len(self.sites)}" if self.sites else ""))
 
 

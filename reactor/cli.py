@@ -255,7 +255,9 @@ def add_build_arguments(parser: argparse.ArgumentParser) -> None:
     """The options of ``dump`` that choose the build (shared with ``python -m routines dump``)."""
     parser.add_argument("--what", choices=("ir", "opt", "asm"), default="asm",
                         help="IR, optimized IR or assembly (default asm)")
-    parser.add_argument("--fma", choices=("on", "off"), help="fused multiply-add (default: the target's)")
+    parser.add_argument("--fma", choices=("on", "off", "emulate"),
+                        help="fused multiply-add (default: the target's; emulate: fused in software where the "
+                             "target has no FMA)")
     parser.add_argument("--width", type=int, choices=WIDTHS,
                         help="SIMD lanes (default: the target's natural width)")
     parser.add_argument("--target", dest="cpu", choices=TARGETS, help="code-generation target (default host)")
@@ -265,5 +267,6 @@ def add_build_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def build_options(args: argparse.Namespace) -> dict[str, Any]:
-    return {"fma": None if args.fma is None else args.fma == "on", "width": args.width,
+    fma = {None: None, "on": True, "off": False, "emulate": "emulate"}[args.fma]
+    return {"fma": fma, "width": args.width,
             "target": args.cpu, "opt": args.opt}

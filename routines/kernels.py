@@ -22,12 +22,13 @@ BINARY = {"pow": _power.pow, "atan2": _trig.atan2}
 NAMES = tuple(UNARY) + tuple(BINARY)
 
 
-def jit(name: str, precision="full", fma: bool | None = None, width: int | None = None,
+def jit(name: str, precision="full", fma: bool | str | None = None, width: int | None = None,
         target: str | None = None):
     """The ufunc computing routine ``name`` ("exp2", "log2", "pow", "exp", "log",
     "rcp", "rsqrt", "sqrt", "sin", "cos", "tan", "asin", "acos", "atan", "sinh",
     "cosh", "tanh"; binary: "pow" and "atan2", called as atan2(y, x)) in ``precision`` ("full"/"relaxed"), with FMA on or
-    off (None: fused where the target has FMA), at SIMD ``width`` (None: the
+    off (None: fused where the target has FMA; True on a target without FMA is an error;
+    "emulate": fused everywhere, in software where needed), at SIMD ``width`` (None: the
     target's natural width) for ``target`` (None: this CPU). Built once per
     variant and process (and cached on disk). Its name and doc state the
     resolved settings, e.g. ``exp2_full_fma``: "exp2, full precision, FMA on,
@@ -37,14 +38,16 @@ def jit(name: str, precision="full", fma: bool | None = None, width: int | None 
     level = check_precision(precision, name)
     with options(fma=fma, width=width, target=target):
         build = build_settings()
-    return _build(name, level, build.fma, build.width, build.target.name, width is not None)
+    fused = "emulate" if build.fma and not build.target.has_fma else build.fma  # never libm's fmaf
+    return _build(name, level, fused, build.width, build.target.name, width is not None)
 
 
 @functools.lru_cache(maxsize=None)
 def _build(name, precision, fma, width, target, tag_width):
     tag = f"{name}_{precision.value}_{'fma' if fma else 'nofma'}" + (f"_w{width}" if tag_width else "")
     where = get_target(target)
-    doc = (f"{name}, {precision.value} precision, FMA {'on' if fma else 'off'}, {width} lane{'s' * (width > 1)}, "
+    fused = "emulated in software" if fma == "emulate" else "on" if fma else "off"
+    doc = (f"{name}, {precision.value} precision, FMA {fused}, {width} lane{'s' * (width > 1)}, "
            f"target {target} ({where.cpu}). float32 only: NumPy refuses a float64 array under its default "
            f"casting; compute one in float32 with dtype=np.float32, casting='same_kind'.")
     builder = BINARY[name] if name in BINARY else UNARY[name]  # the body reads only keyable values

@@ -161,10 +161,48 @@ CLASSIFY = {
 
 
 def fused_multiply_add(em, vt: VType, a, b, c, fused: bool):
-    """a*b + c: one ``llvm.fma`` when ``fused``, else a rounded multiply then add."""
-    if fused:
+    """a*b + c: one ``llvm.fma`` when ``fused`` (emulated exactly where the target has no FMA
+    instruction, never a call to libm's fmaf), else a rounded multiply then add."""
+    if not fused:
+        return em.fadd(em.fmul(a, b, name="mul"), c, name="muladd")
+    if "fma" in em.settings.target.feature_set:
         return intrinsic(em, "llvm.fma", vt, [a, b, c])
-    return em.fadd(em.fmul(a, b, name="mul"), c, name="muladd")
+    return emulated_fma(em, vt, a, b, c)
+
+
+def emulated_fma(em, vt: VType, a, b, c):
+    """float32 ``a*b + c`` rounded once, without an FMA instruction: the product is exact in
+    double, the sum is rounded to odd in double (the rounded sum, moved one ulp toward the
+    exact one when it is inexact and even: TwoSum gives the error), and the one rounding to
+    float then gives the fused result (53 >= 2 x 24 + 2 bits). Infinities as FMA; a NaN operand
+    gives the first NaN of a, b, c, quieted."""
+    if vt.kind.name != "Float":
+        from ..errors import ReactorError
+        raise ReactorError(f"a fused multiply-add of {vt.kind.name} values needs an FMA instruction, and target "
+                           f"'{em.settings.target.name}' has none: build with fma=False (or None)")
+    dt, lt = vt.with_kind("Double"), vt.with_kind(T.INDEX_KIND)
+    x, y, z = (convert(em, vt, dt, v) for v in (a, b, c))
+    product = em.fmul(x, y, name="fma.product")  # exact
+    total = em.fadd(product, z, name="fma.sum")  # rounded to nearest
+    back = em.fsub(total, product, name="fma.back")
+    error = em.fadd(em.fsub(product, em.fsub(total, back, name="fma.a"), name="fma.ea"),
+                    em.fsub(z, back, name="fma.eb"), name="fma.error")  # total + error = product + z
+    bits = em.bitcast(total, lt, name="fma.bits")
+    zero = const(dt, 0.0)
+    inexact = em.fcmp("!=", error, zero, ordered=True, name="fma.inexact")  # NaN/inf: not adjusted
+    even = em.icmp("==", em.and_(bits, const(lt, 1), name="fma.low"), const(lt, 0), signed=False, name="fma.even")
+    up = em.icmp("==", em.fcmp(">", error, zero, ordered=True, name="fma.eup"),
+                 em.fcmp(">", total, zero, ordered=True, name="fma.pos"), signed=False, name="fma.away")
+    step = em.select(up, const(lt, 1), const(lt, -1), name="fma.step")
+    odd = em.select(em.and_(inexact, even, name="fma.adjust"), em.add(bits, step, name="fma.next"), bits,
+                    name="fma.odd")
+    result = convert(em, dt, vt, em.bitcast(odd, dt, name="fma.rounded"))
+    it = vt.with_kind("Int")  # a NaN operand: the first of a, b, c, quieted (as VFMADD's usual forms give)
+    for v in (c, b, a):
+        quiet = em.bitcast(em.or_(em.bitcast(v, it, name="fma.nanbits"), const(it, 0x00400000), name="fma.quiet"),
+                           vt, name="fma.qnan")
+        result = em.select(em.fcmp("uno", v, v, ordered=False, name="fma.isnan"), quiet, result, name="fma.nan")
+    return result
 
 
 def reduce(em, name: str, vt: VType, mask):

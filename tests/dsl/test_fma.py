@@ -88,3 +88,58 @@ def test_fma_in_fma_off_build_is_an_error():
         with pytest.raises(FmaDisabledError):
             Function(body).compile()
     assert Function(body, fma=True)(2.0) == 6.0
+
+
+# -- an honest toggle: fma=True needs FMA hardware; "emulate" is exact software; never libm's fmaf ----
+
+def _fused3(a: Float, b: Float, c: Float) -> Float:
+    return reactor.MulAdd(a, b, c)
+
+
+def test_fma_true_on_a_target_without_fma_is_an_error_naming_it():
+    with pytest.raises(reactor.ReactorError, match=r"target 'sse4' \(nehalem\) has no fused multiply-add.*'emulate'"):
+        kernel(_fused3, name="fma_sse4_true", target="sse4", fma=True)
+    with pytest.raises(reactor.ReactorError, match="has no fused multiply-add"):
+        import routines
+        routines.jit("exp2", target="sse4", fma=True)
+
+
+@pytest.mark.skipif(not reactor.get_target("host").has_fma, reason="compares with the hardware's FMA")
+def test_emulated_fma_gives_the_hardware_bits():
+    emulated = kernel(_fused3, name="fma_emulated", target="sse4", fma="emulate")
+    hardware = kernel(_fused3, name="fma_hardware", fma=True)
+    assert "fma=emulated" in reactor.kernel_of(emulated).build.describe()
+    rng = np.random.default_rng(7)
+    n = 1 << 20
+    a, b, c = rng.integers(0, 2 ** 32, (3, n), dtype=np.uint64).astype(np.uint32).view(np.float32)
+    x, y = rng.standard_normal((2, n)).astype(np.float32)
+    exact = x.astype(np.float64) * y
+    cases = [(a, b, c), (x, y, (-exact).astype(np.float32)),                       # cancellation
+             (x, y, (-exact * (1 + rng.standard_normal(n) * 2e-7)).astype(np.float32)),  # near ties
+             (x * np.float32(1e-20), y * np.float32(1e-20), (-exact * 1e-40).astype(np.float32))]  # subnormal
+    with np.errstate(all="ignore"):
+        for args in cases:
+            assert np.array_equal(emulated(*args).view(np.uint32), hardware(*args).view(np.uint32))
+        assert np.array_equal(emulated(a[::3], b[::3], c[::3]).view(np.uint32),
+                              hardware(a[::3], b[::3], c[::3]).view(np.uint32))  # the scalar path too
+
+
+def test_no_build_calls_libm_fmaf_and_emulated_routines_match_fused_ones():
+    import routines
+    from routines.lab import sample_inputs
+    for fma in (None, False, "emulate"):
+        for name in ("exp2", "log2", "pow"):
+            assert "fmaf" not in reactor.kernel_of(routines.jit(name, "full", fma, target="sse4")).assembly
+    if reactor.get_target("avx2").runnable:
+        for name in ("exp2", "log2", "pow"):
+            ops = [v.view(np.float32) for v in sample_inputs(name, 1 << 14, seed=2)]
+            got = routines.jit(name, "full", "emulate", target="sse4")(*ops)
+            want = routines.jit(name, "full", True, target="avx2")(*ops)
+            assert np.array_equal(got.view(np.uint32), want.view(np.uint32)), name
+
+
+def test_a_fused_double_fused3_without_fma_hardware_says_so():
+    def body(a: reactor.Double) -> reactor.Double:
+        return reactor.MulAdd(a, a, a)
+    with pytest.raises(reactor.ReactorError, match="Double values needs an FMA instruction"):
+        kernel(body, name="fma_double_emulate", target="sse4", fma="emulate")

@@ -39,11 +39,12 @@ def build_variants(functions, progress=None) -> list[dict]:
     from ..model import predict_kernel
 
     out = []
+    has_fma = reactor.get_target("host").has_fma
     for func in functions:
         for precision in PRECISIONS:
             for fma in (True, False):
-                for width in WIDTHS:
-                    u = jit(func, precision, fma, width)
+                for width in WIDTHS:  # FMA on: in software on a CPU without it (never a libm call)
+                    u = jit(func, precision, fma if not fma or has_fma else "emulate", width)
                     pred = predict_kernel(u)
                     win = window_bound(u)
                     out.append({
