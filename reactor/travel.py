@@ -132,3 +132,17 @@ def find(where):
         return resolve(*where)
     except Exception:  # noqa: BLE001 - not on this side
         return None
+
+
+def arrive(where, payload, accept, build, what: str):
+    """The object pickled as (``where``, ``payload``) on this side: the one living at ``where`` if
+    ``accept`` takes it, else ``build(body)`` from the body that came along."""
+    found = find(where)
+    if found is not None and accept(found):
+        return found
+    if payload is None:
+        from .errors import ReactorError
+        raise ReactorError(f"{what} {'.'.join(where or ('?',))} cannot be found on this side and came without "
+                           f"its body")
+    return build(body_from(payload))
+

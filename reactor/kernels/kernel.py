@@ -201,6 +201,8 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
                            f"and different input types")
     group = Kernels(kernels)
     given = {f.name: getattr(base, f.name) for f in dataclasses.fields(base) if getattr(base, f.name) is not None}
+    if "sites" in given:  # a Plan travels as its resolved sites (not with its planned ufunc)
+        given["sites"] = builds[0].sites
     group.travel = ("kernel", body, dict(given, name=name, signatures=signatures, args=args,
                                          **({} if returns is ... else {"returns": returns})))
     doc = (body.__doc__ or f"reactor kernel '{name}'").strip() + "\n\nBuilt for " + \

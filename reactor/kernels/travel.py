@@ -17,7 +17,7 @@ import copyreg
 
 import numpy as np
 
-from ..travel import body_from, find, reduce_body
+from ..travel import arrive, reduce_body
 from ..errors import ReactorError
 
 _numpy_reduce = copyreg.dispatch_table.get(np.ufunc)
@@ -47,13 +47,8 @@ def reduce_kernel(group, ufunc):
 def rebuild_kernel(where, payload, kwargs):
     """The kernel pickled by ``reduce_kernel``, found or built on this side."""
     from .kernel import build_kernel, group_of
-    found = find(where)
-    if isinstance(found, np.ufunc) and group_of(found) is not None:
-        return found
-    if payload is None:
-        raise ReactorError(f"kernel {'.'.join(where or ('?',))} cannot be found on this side and came without "
-                           f"its body")
-    return build_kernel(body_from(payload), **kwargs)
+    return arrive(where, payload, lambda u: isinstance(u, np.ufunc) and group_of(u) is not None,
+                  lambda body: build_kernel(body, **kwargs), "kernel")
 
 
 def _reduce_ufunc(ufunc):

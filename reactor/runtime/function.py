@@ -21,7 +21,7 @@ import typing
 
 import numpy as np
 
-from ..travel import body_from, find, reduce_body
+from ..travel import arrive, reduce_body
 from ..build import Build, current_options
 from ..dsl.function import FunctionDef
 from ..dsl.calls import RoutineCall, calls_of
@@ -73,12 +73,8 @@ class Function(FunctionDef):
 
 def _rebuild_function(where, payload, name, args, returns, options) -> "Function":
     """The Function pickled by ``Function.__reduce__``, found or built on this side."""
-    found = find(where)
-    if isinstance(found, Function):
-        return found
-    if payload is None:
-        raise ReactorError(f"function {name} cannot be found on this side and came without its body")
-    return Function(body_from(payload), args=args, returns=returns, name=name, **options)
+    return arrive(where, payload, lambda f: isinstance(f, Function),
+                  lambda body: Function(body, args=args, returns=returns, name=name, **options), "function")
 
 
 @typing.overload
