@@ -1,6 +1,6 @@
 """What determines a body's IR, hashed without building it: the key of a cache hit without tracing.
 
-``recipe_key(body, *parts)`` hashes everything that decides the IR a DSL body
+``recipe_watch(body, *parts)`` hashes everything that decides the IR a DSL body
 produces, without running it: its code object (bytecode, constants, names,
 nested code), the values it reads from its closure cells, defaults and module
 globals, recursively through the plain Python helpers and reactor Functions it
@@ -14,7 +14,7 @@ dataclass) or a Python function makes the key ``None``: such a body is traced
 (its IR is the key then), so a stale object is never linked. Builtins count by
 name.
 
-``recipe_watch`` gives, with the key, what it read (each global, closure cell
+It gives, with the key, what it read (each global, closure cell
 and defaults tuple, by identity), so a kernel built from the same function
 object can be reused in memory while none of them was rebound (``unchanged``).
 """
@@ -173,13 +173,9 @@ class _Hasher:
             raise Unkeyable(type(v).__name__)
 
 
-def recipe_key(body, *parts) -> str | None:
-    """The key of ``body``'s IR with ``parts`` (signature, settings), or None if it has none."""
-    return recipe_watch(body, *parts)[0]
-
-
 def recipe_watch(body, *parts) -> tuple[str | None, list[tuple]]:
-    """``recipe_key`` and what it read (for ``unchanged``); ``(None, [])`` if it has no key."""
+    """The key of ``body``'s IR with ``parts`` (signature, settings) and what it read (for
+    ``unchanged``); ``(None, [])`` if it has no key."""
     hasher = _Hasher()
     hasher.put("reactor recipe 2", library_digest(), *parts)
     try:
