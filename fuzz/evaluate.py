@@ -34,8 +34,9 @@ def const_array(value, ty: Ty) -> np.ndarray:
 
 
 class _Eval:
-    def __init__(self, program: Program, inputs: list[np.ndarray], W: int):
+    def __init__(self, program: Program, inputs: list[np.ndarray], W: int, nan_choice: bool = False):
         self.p, self.W = program, W
+        self.nan_choice = nan_choice
         self.rows = inputs[0].shape[0] if inputs else 1
         self.ctx = types.SimpleNamespace(W=W, fma=program.fma)
         self.inputs = inputs
@@ -73,6 +74,8 @@ class _Eval:
                     taint = taint | t
             if extra is not None:
                 taint = taint | extra
+            if self.nan_choice and e.name != "select" and value.dtype.kind == "f":
+                taint = taint | _two_nans(vals)
             if spec.cross_lane and e.ty.scalar and not isinstance(taint, bool):
                 taint = np.any(taint, axis=1, keepdims=True)  # conservatively, the whole row
             return value, taint
@@ -182,13 +185,27 @@ class _Eval:
                 [(t | self.row_taint).reshape(-1) for t in self.out_taints])
 
 
+def _two_nans(vals):
+    """Lanes where two or more float operands are NaN: which one an operation returns is the
+    hardware's choice (IEEE 754 leaves it open; x86 takes the first operand of the instruction
+    form LLVM picked, AArch64 the addend of a fused multiply-add first)."""
+    count = 0
+    for v in vals:
+        v = np.asarray(v)
+        if v.dtype.kind == "f":
+            count = count + np.isnan(v).astype(np.int8)
+    return np.asarray(count) >= 2 if not isinstance(count, int) else False
+
+
 def _literal(e) -> bool:
     return isinstance(e, Const) and e.literal
 
 
-def evaluate(program: Program, inputs: list[np.ndarray], W: int):
+def evaluate(program: Program, inputs: list[np.ndarray], W: int, nan_choice: bool = False):
     """Outputs and taint masks (flat arrays of ``len(inputs[k])`` lanes) of ``program``
-    on the flat ``inputs`` at width ``W`` (function mode) or lane-wise (kernel mode)."""
+    on the flat ``inputs`` at width ``W`` (function mode) or lane-wise (kernel mode).
+    ``nan_choice`` also taints the lanes where an operation met two NaNs (for comparing
+    NaN bits between targets)."""
     width = W if program.mode == "function" else 1
     shaped = [np.ascontiguousarray(x).reshape(-1, width) for x in inputs]
-    return _Eval(program, shaped, width).run()
+    return _Eval(program, shaped, width, nan_choice).run()

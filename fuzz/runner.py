@@ -25,7 +25,7 @@ import reactor
 from . import ast as A
 from .emit import function_of, kernel_of_program
 from .evaluate import EvaluatorError, evaluate
-from .generate import DOUBLE_CONSTS, FLOAT_CONSTS, INT_CONSTS, UINT_CONSTS, RandomChooser, generate
+from .generate import DOUBLE_CONSTS, FLOAT_CONSTS, INT_CONSTS, RUNNABLE_FORCED, UINT_CONSTS, RandomChooser, generate
 
 WIDTHS = reactor.WIDTHS
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))  # the directory holding this package
@@ -213,8 +213,80 @@ def _run_kernel(program, inputs, widths, res, name, rng):
                         rows_of=lambda lane, full=full: [x[lane] for x in full])
 
 
-def check(program: A.Program, seed=0, widths=WIDTHS, name: str = "fuzz") -> Result:
-    """Compile and run ``program`` at ``widths`` and compare with NumPy; never raises."""
+# -- the same bits on every target ---------------------------------------------------------
+
+#: The default NaN of an invalid arithmetic operation (0 * inf, inf - inf, 0 / 0) per architecture,
+#: by item size: x86's has the sign set, AArch64's not. The DSL's operators give the hardware's
+#: (docs/dsl.md); the routines and built-ins give x86's on every target.
+X86_DEFAULT_NAN = {2: 0xFE00, 4: 0xFFC00000, 8: 0xFFF8000000000000}
+ARM_DEFAULT_NAN = {2: 0x7E00, 4: 0x7FC00000, 8: 0x7FF8000000000000}
+
+
+def cross_targets(program: A.Program) -> list[str]:
+    """The other targets a kernel program is also run on: the x86 levels this CPU runs, and
+    aarch64 under qemu-user where the cross tools are installed."""
+    others = [t for t in ("host",) + tuple(RUNNABLE_FORCED) if t != program.target]
+    return others + (["aarch64"] if reactor.emulator_missing() is None else [])
+
+
+def same_bits(got: np.ndarray, want: np.ndarray, taint: np.ndarray, arch: str) -> np.ndarray:
+    """Indices of lanes whose bits differ, NaN payloads and signs included, except an invalid
+    operation's default NaN on AArch64 (where x86 gives its own) and tainted lanes."""
+    got, want = np.ascontiguousarray(got), np.ascontiguousarray(want)
+    if got.dtype.kind == "f":
+        size = got.dtype.itemsize
+        ints = {2: np.uint16, 4: np.uint32, 8: np.uint64}[size]
+        g, w = got.view(ints), want.view(ints)
+        same = g == w
+        if arch == "aarch64":
+            same |= (w == X86_DEFAULT_NAN[size]) & (g == ARM_DEFAULT_NAN[size])
+    else:
+        same = got == want
+    return np.flatnonzero(~same & ~taint)
+
+
+def _signalling(x: np.ndarray) -> np.ndarray:
+    quiet = {2: 0x0200, 4: 0x00400000, 8: 0x0008000000000000}[x.dtype.itemsize]
+    ints = {2: np.uint16, 4: np.uint32, 8: np.uint64}[x.dtype.itemsize]
+    return np.isnan(x) & ((np.ascontiguousarray(x).view(ints) & ints(quiet)) == 0)
+
+
+def _run_cross_targets(program, inputs, res, name):
+    """The program's kernel on every other target must give its bits on its own target (width 4,
+    which every target has), every output, NaN signs and payloads included, except in lanes where
+    an operation met two NaNs (the hardware chooses which it returns) and the documented
+    exceptions of ``same_bits``."""
+    _, taint = evaluate(program, inputs, 1, nan_choice=True)
+    ref = _as_tuple(kernel_of_program(program, 4, name=f"{name}_ref")(*inputs))
+    for target in cross_targets(program):
+        other = dataclasses.replace(program, target=target)
+        uf = kernel_of_program(other, 4, name=f"{name}_{target}")
+        res.variants += 1
+        if reactor.get_target(target).runnable:
+            got = _as_tuple(uf(*inputs))
+        else:
+            got = reactor.run_emulated(uf, *inputs)
+            got = got if isinstance(got, tuple) else (got,)
+        arch = reactor.get_target(target).arch
+        # LLVM may treat a signalling NaN as a quiet one: on AArch64 it turns Min/Max against a
+        # non-NaN into FMINNM/FMAXNM, which return the quieted signalling NaN (docs/dsl.md)
+        signalling = np.zeros(len(inputs[0]), bool)
+        if arch != "x86_64":
+            for x in inputs:
+                if x.dtype.kind == "f":
+                    signalling |= _signalling(x)
+        for j, (g, w) in enumerate(zip(got, ref)):
+            bad = same_bits(g, w, taint[j] | signalling, arch)
+            res.lanes += int(np.size(g))
+            for lane in bad[:4]:
+                res.mismatches.append(Mismatch(4, f"target {target} vs {program.target}", j, int(lane),
+                                               _value(g[lane]), _value(w[lane]),
+                                               [_value(x[lane]) for x in inputs]))
+
+
+def check(program: A.Program, seed=0, widths=WIDTHS, name: str = "fuzz", targets: bool = True) -> Result:
+    """Compile and run ``program`` at ``widths`` and compare with NumPy, then (a kernel, with
+    ``targets``) its bits on every other target with its own target's; never raises."""
     res = Result(program)
     try:
         inputs = make_inputs(program, seed)
@@ -223,6 +295,8 @@ def check(program: A.Program, seed=0, widths=WIDTHS, name: str = "fuzz") -> Resu
                 _run_function(program, inputs, widths, res, name)
             else:
                 _run_kernel(program, inputs, widths, res, name, np.random.default_rng(seed))
+                if targets:
+                    _run_cross_targets(program, inputs, res, name)
     except Exception:  # noqa: BLE001 - a reactor or fuzzer exception is a finding, reported
         res.status, res.error = "error", traceback.format_exc()
         return res

@@ -34,6 +34,7 @@ from .errors import (
 from .ir.types import KINDS, WIDTHS
 from .kernels.kernel import Kernel, kernel, kernel_of
 from .kernels.chunks import map_blocks
+from .kernels.emulated import Emulator, missing as emulator_missing, run as run_emulated
 from .kernels.travel import travels_as
 from .explain import explain
 from .planner import Plan, PlanStaleError, Range, Rows, plan
@@ -62,7 +63,7 @@ __version__ = "0.1.0"
 __all__ = [
     # build settings and targets
     "Build", "BuildOptions", "Precision", "Site", "options", "build_settings", "fma_mode", "precision", "target_features",
-    "Target", "TARGETS", "get_target", "WIDTHS", "KINDS",
+    "Target", "TARGETS", "get_target", "Emulator", "emulator_missing", "run_emulated", "WIDTHS", "KINDS",
     # values, types, variables, pointers
     "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable", "set_power",
     "Table", "Texture2D", "Texture3D", "ConstantTable",

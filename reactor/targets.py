@@ -1,4 +1,4 @@
-"""Code-generation targets: the host CPU, or a forced older x86 level.
+"""Code-generation targets: the host CPU, a forced x86 level, or AArch64.
 
 The target is a build setting (see ``reactor.build``): resolved once per
 build into a ``Target`` object that every layer reads (the IR emitter for the
@@ -6,8 +6,15 @@ triple, data layout and CPU features, the JIT for the machine).
 
 A target fixes the LLVM triple, CPU name and feature string, and from them the
 natural SIMD width (16 lanes of float32 with AVX-512, 8 with AVX2, else 4) and
-whether FMA exists. A forced target whose features the host lacks can still be
-compiled (to read its assembly) but its code refuses to run.
+whether FMA exists. A forced target whose features the host lacks, or whose
+architecture is not the host's (``aarch64`` on an x86 machine), can still be
+compiled (to read its assembly, or to run under an emulator: see
+``reactor.kernels.emulated``) but its code refuses to run in this process.
+
+``aarch64`` is ARMv8.2-A with NEON (LLVM's ``neoverse-n1``: AWS Graviton2, and a
+subset of Apple M1 and Graviton3): 4 float32 lanes, fused multiply-add always
+(FMADD/FMLA are part of the base architecture). On an ARM machine ``host`` is
+the machine's own CPU.
 """
 from __future__ import annotations
 
@@ -24,6 +31,8 @@ def _llvm_ready() -> None:
     llvm.initialize_native_target()
     llvm.initialize_native_asmprinter()
     llvm.initialize_native_asmparser()
+    llvm.initialize_all_targets()  # other architectures' code generators (~2 ms)
+    llvm.initialize_all_asmprinters()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -36,12 +45,17 @@ class Target:
     features: str
     required: tuple[str, ...]
 
+    @property
+    def arch(self) -> str:
+        """The instruction set: "x86_64" or "aarch64" (from the triple)."""
+        return architecture(self.triple)
+
     @functools.cached_property
     def feature_set(self) -> frozenset[str]:
-        """Every feature code for this target may use (the CPU's, implied ones included)."""
-        if self.name == "host":
-            return host_features()
-        return frozenset(_FORCED[self.name][2])
+        """Every feature code for this target may use (the CPU's, implied ones included;
+        "fma" on every AArch64 target, whose base architecture has fused multiply-add)."""
+        feats = host_features() if self.name == "host" else frozenset(_FORCED[self.name][3])
+        return feats | {"fma"} if self.arch == "aarch64" else feats
 
     @property
     def natural_width(self) -> int:
@@ -57,7 +71,14 @@ class Target:
 
     @property
     def runnable(self) -> bool:
-        return set(self.required) <= host_features()
+        """Whether this process can run the target's code (same architecture, every required feature)."""
+        return self.arch == host_arch() and set(self.required) <= host_features()
+
+    def missing(self) -> str:
+        """What this CPU lacks to run the target's code (for error messages)."""
+        if self.arch != host_arch():
+            return f"it is {host_arch()}, not {self.arch}"
+        return f"it lacks {', '.join(sorted(set(self.required) - host_features()))}"
 
     @functools.cached_property
     def machine(self) -> llvm.TargetMachine:
@@ -75,23 +96,38 @@ class Target:
         return f"{self.triple}|{self.cpu}|{self.features}"
 
 
+def architecture(triple: str) -> str:
+    """ "x86_64" or "aarch64" for an LLVM triple (anything else: its first field)."""
+    arch = triple.split("-")[0]
+    return {"arm64": "aarch64", "amd64": "x86_64"}.get(arch, arch)
+
+
+@functools.cache
+def host_arch() -> str:
+    _llvm_ready()
+    return architecture(llvm.get_process_triple())
+
+
 @functools.cache
 def host_features() -> frozenset[str]:
     _llvm_ready()
     return frozenset(k for k, v in llvm.get_host_cpu_features().items() if v)
 
 
-# Forced targets: (cpu, required features, every feature the CPU implies). LLVM
+# Forced targets: (triple, cpu, required features, every feature the CPU implies). LLVM
 # derives its feature set from the CPU name; "required" is what the host must
 # have to run the code; the implied set is what the DSL may use (estimates,
 # AVX-512 instructions) and must match what LLVM enables for that CPU.
 _SSE4 = ("sse", "sse2", "sse3", "ssse3", "sse4.1", "sse4.2", "popcnt", "cx16")
 _AVX2 = _SSE4 + ("avx", "avx2", "fma", "f16c", "bmi", "bmi2", "lzcnt", "movbe")
 _AVX512 = _AVX2 + ("avx512f", "avx512vl", "avx512bw", "avx512dq", "avx512cd")
+_NEON = ("neon", "fp-armv8", "crc", "lse", "rdm", "fullfp16", "dotprod")
+_X86 = "x86_64-unknown-linux-gnu"
 _FORCED = {
-    "avx512": ("skylake-avx512", ("avx512f", "avx512vl", "avx512bw", "avx512dq", "avx2", "fma"), _AVX512),
-    "avx2": ("haswell", ("avx2", "fma"), _AVX2),
-    "sse4": ("nehalem", ("sse4.1", "sse4.2"), _SSE4),
+    "avx512": (_X86, "skylake-avx512", ("avx512f", "avx512vl", "avx512bw", "avx512dq", "avx2", "fma"), _AVX512),
+    "avx2": (_X86, "haswell", ("avx2", "fma"), _AVX2),
+    "sse4": (_X86, "nehalem", ("sse4.1", "sse4.2"), _SSE4),
+    "aarch64": ("aarch64-unknown-linux-gnu", "neoverse-n1", ("neon",), _NEON),
 }
 
 TARGETS = ("host",) + tuple(_FORCED)
@@ -107,5 +143,7 @@ def get_target(name: str = "host") -> Target:
         return Target("host", triple, llvm.get_host_cpu_name(), feats, ())
     if name not in _FORCED:
         raise ReactorError(f"unknown target {name!r}; choose one of {', '.join(TARGETS)}")
-    cpu, required, _ = _FORCED[name]
-    return Target(name, triple, cpu, "", required)
+    forced_triple, cpu, required, _ = _FORCED[name]
+    if architecture(forced_triple) == architecture(triple):
+        forced_triple = triple  # the host's own spelling (vendor, OS, ABI)
+    return Target(name, forced_triple, cpu, "", required)

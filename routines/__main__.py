@@ -7,7 +7,8 @@ methods, its figures beside ours), chart (the cost/error chart), report (the
 main job: every variant's accuracy and speed, the table, chart and JSON),
 docs (write docs/routines/*.md from the measurements), search (the variant
 search: the Pareto set of cost vs error), fingerprint (a hash of every
-variant's output bits, to prove a change left them alone), dump (the IR or
+variant's output bits, to prove a change left them alone), crosstarget (every
+variant's output bits on each target, aarch64 under qemu, against the host's), dump (the IR or
 assembly of a routine's kernel), pixels (prove the sRGB8 encode exact, time it). ``python -m routines COMMAND --help`` tells more.
 
 Exit status: 0 done, 1 a finding (a variant does not conform, fingerprints
@@ -28,6 +29,7 @@ COMMANDS = {
     "docs": "routines.cli.docs",
     "search": "routines.cli.search",
     "fingerprint": "routines.lab.fingerprint",
+    "crosstarget": "routines.lab.crosstarget",
     "dump": "routines.cli.dump",
     "pixels": "routines.cli.pixels",
 }

@@ -15,7 +15,7 @@ import os
 import typing
 
 import reactor
-from reactor import DSLTypeError, Float, Precision, Value, fma_mode
+from reactor import As, DSLTypeError, Float, Precision, Value, fma_mode
 
 reactor.hide_frames_of(os.path.dirname(__file__))  # errors point at the caller's line
 
@@ -59,3 +59,29 @@ def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
             return fn(*args, precision=level, **kwargs)
 
     return build
+
+
+#: The NaN an invalid operation gives on x86 (0 * inf, inf - inf, a negative's square root): the
+#: routines give it on every target (AArch64 hardware gives 0x7fc00000).
+DEFAULT_NAN_BITS = -0x00400000  # 0xffc00000
+
+
+def nan_rule(result: Value, *sources: Value) -> Value:
+    """``result`` with the routines' NaN rule, the same bits on every target: where it is NaN,
+    the first NaN among ``sources`` quieted (sign and payload kept), else the default NaN
+    0xffc00000 (an invalid operation such as 0 * inf or inf - inf).
+
+    x86 hardware gives exactly this when ``sources`` are the operands in the order the routine
+    combines them (its default NaN is 0xffc00000, and its instructions return their first NaN
+    operand), so nothing is emitted there. Other architectures get it by selects: AArch64's
+    default NaN is 0x7fc00000, and LLVM may order operands differently.
+    ``python -m routines crosstarget`` compares every bit of both on every variant."""
+    if reactor.build_settings().target.arch == "x86_64":
+        return result
+    Int_ = reactor.vector_type("Int", result.width)
+    Float_ = reactor.vector_type("Float", result.width)
+    fixed = As(Float_, Int_(DEFAULT_NAN_BITS))
+    for a in reversed(sources):
+        quiet = As(Float_, As(Int_, Float_(a)) | 0x00400000)
+        fixed = reactor.Select(reactor.IsNan(a), quiet, fixed)
+    return reactor.Select(reactor.IsNan(result), fixed, result)

@@ -18,6 +18,10 @@ they follow from log2's and exp2's own specials through the product:
     x in (0,1) ^ -inf, x>1 ^ +inf   +inf
     NaN in either argument      NaN           (powr: even 1^NaN and NaN^0)
 
+NaN bits (``base.nan_rule``, the same on every target): a NaN x gives x quieted, then x < 0
+gives the default NaN 0xffc00000, then a NaN y gives y quieted; every other NaN above (0 * inf)
+is the default NaN.
+
 Accuracy: Vulkan inherits pow's tolerance from exp2(y * log2(x)); see
 docs/accuracy.md for the derivation used by the accuracy lab.
 """
@@ -26,7 +30,7 @@ from __future__ import annotations
 import reactor
 from reactor import Precision
 
-from .base import float_value, routine
+from .base import float_value, nan_rule, routine
 from .exponential import exp2
 from .logarithm import log2
 
@@ -65,7 +69,8 @@ def pow(x, y, precision: Precision = Precision.FULL):  # noqa: A001 - the routin
             and int(y) in WHOLE_EXPONENTS and int(y) != 0:
         return _whole_power(x, int(y)).named("pow")
     y = float_value(y, "pow", "y")
-    return exp2(y * log2(x, precision=precision), precision=precision).named("pow")
+    lx = log2(x, precision=precision)                      # NaN for a NaN x (quieted) or x < 0 (0xffc00000)
+    return nan_rule(exp2(y * lx, precision=precision), lx, y).named("pow")
 
 
 reactor.set_power(pow)  # x ** y in the DSL, for a y other than a small whole number

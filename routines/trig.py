@@ -94,7 +94,7 @@ from reactor import (
 )
 
 from . import polynomials as P
-from .base import float_value, routine
+from .base import float_value, nan_rule, routine
 from .reciprocal import rcp, sqrt
 
 
@@ -152,7 +152,7 @@ def _reduce_large(ax):
     acc = q = None
     for piece in TWO_OVER_PI_PIECES:
         p = d * piece                                       # exact: 24 x 28 bits
-        p = MulAdd(Round(p * 0.25), -4.0, p)                # p mod 4 in [-2, 2], exact
+        p = p - Round(p * 0.25) * 4.0                       # p mod 4 in [-2, 2], exact (no FMA needed)
         acc = p if acc is None else acc + p
         k = Round(acc)
         acc = acc - k                                       # in [-1/2, 1/2], exact
@@ -227,7 +227,7 @@ def sin(x, precision: Precision = Precision.FULL):
     r, q = _reduce(Abs(x), _parts(precision))
     s, c = _sin_cos_of_reduced(r, precision)
     v = Select((q & 1) != 0, c, s)
-    return _flip(v, ((q & 2) << 30) ^ _sign_of(x)).named("sin")
+    return _flip(nan_rule(v, Abs(x)), ((q & 2) << 30) ^ _sign_of(x)).named("sin")
 
 
 @routine
@@ -238,7 +238,7 @@ def cos(x, precision: Precision = Precision.FULL):
     s, c = _sin_cos_of_reduced(r, precision)
     q = q + 1
     v = Select((q & 1) != 0, c, s)
-    return _flip(v, (q & 2) << 30).named("cos")
+    return _flip(nan_rule(v, Abs(x)), (q & 2) << 30).named("cos")
 
 
 @routine
@@ -249,7 +249,7 @@ def tan(x, precision: Precision = Precision.FULL):
     s, c = _sin_cos_of_reduced(r, precision)
     odd = (q & 1) != 0
     v = Select(odd, c, s) / Select(odd, -s, c)
-    return _flip(v, _sign_of(x)).named("tan")
+    return _flip(nan_rule(v, Abs(x)), _sign_of(x)).named("tan")
 
 
 # -- asin, acos --------------------------------------------------------------
@@ -284,7 +284,7 @@ def acos(x, precision: Precision = Precision.FULL):
     negative = x < 0.0
     two_p = p + p
     high_v = Select(negative, MulAdd(p, -2.0, PI_LO) + PI_HI, two_p)   # pi - 2p or 2p
-    return Select(high, high_v, low).named("acos")
+    return nan_rule(Select(high, high_v, low), x).named("acos")
 
 
 # -- atan, atan2 -------------------------------------------------------------

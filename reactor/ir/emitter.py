@@ -23,7 +23,7 @@ import typing
 
 from llvmlite import ir
 
-from ..errors import ControlFlowError, ScopeError
+from ..errors import ControlFlowError, ReactorError, ScopeError
 from . import types as T
 
 _tls = threading.local()
@@ -60,6 +60,18 @@ class Scope:
         self.parent, self.what, self.closed = parent, what, False
         self.chain = None  # for Elif/Else bodies: the merge block of their If chain
         self.where = None  # (file, line) of the user's code that opened it
+
+
+_ARCH_INTRINSICS = {"x86_64": "llvm.x86.", "aarch64": "llvm.aarch64."}
+
+
+def _check_architecture(name: str, target) -> None:
+    """Refuse an intrinsic of another architecture (``llvm.x86.*`` in AArch64 code): LLVM would
+    fail on it much later, with an assertion instead of a message."""
+    for arch, prefix in _ARCH_INTRINSICS.items():
+        if name.startswith(prefix) and target.arch != arch:
+            raise ReactorError(f"{name} is an {arch} instruction and cannot be emitted for target "
+                               f"'{target.name}' ({target.arch}); use a portable operation there")
 
 
 class ModuleEmitter:
@@ -127,6 +139,7 @@ class ModuleEmitter:
         try:
             return self.module.get_global(name)
         except KeyError:
+            _check_architecture(name, self.build.target)
             fnty = ir.FunctionType(_llvm(ret), [_llvm(a) for a in args])
             return ir.Function(self.module, fnty, name=name)
 
@@ -615,7 +628,7 @@ class FunctionEmitter:
                 return False
             if op == "call":
                 callee_name = str(getattr(getattr(inst, "callee", None), "name", ""))
-                if not callee_name.startswith("llvm.") or "mxcsr" in callee_name:
+                if not callee_name.startswith("llvm.") or "mxcsr" in callee_name or "fpsr" in callee_name:
                     return False
             elif op in ("br", "ret", "switch", "unreachable", "alloca", "phi", "atomicrmw", "cmpxchg",
                         "getelementptr"):

@@ -96,6 +96,30 @@ BINARY = {
     "copysign": {"float": _overloaded("llvm.copysign")},
 }
 
+KINDS_BY_BITS = {16: T.KINDS["UShort"], 32: T.KINDS["Int"]}
+
+
+def _sqrt(em, vt: VType, a):
+    """The correctly rounded square root; a negative input gives the x86 default NaN on every
+    target (AArch64's FSQRT gives 0x7fc00000 there, so a select is added on other architectures)."""
+    root = intrinsic(em, "llvm.sqrt", vt, [a])
+    if em.settings.target.arch == "x86_64":
+        return root
+    negative = em.fcmp("<", a, const(vt, 0.0), ordered=True, name="sqrt.negative")
+    return with_nan_where(em, vt, negative, root)
+
+
+def with_nan_where(em, vt: VType, mask, value):
+    """``value`` (a NaN in the lanes of ``mask``, from an invalid operation on a non-x86 target)
+    with its sign set there, which makes that target's default NaN (+, quiet, no payload) x86's.
+    Done with integer operations: LLVM treats every NaN as the same value and folds a select
+    between a NaN constant and a NaN-producing operation away."""
+    it = VType(T.INDEX_KIND if vt.kind.bits == 64 else KINDS_BY_BITS[vt.kind.bits], vt.width)
+    sign = em.select(mask, const(it, -(1 << (vt.kind.bits - 1))), const(it, 0), name="nan.sign")
+    bits = em.or_(em.bitcast(value, it.ir, name="bits"), sign, name="nan.rule")
+    return em.bitcast(bits, vt.ir, name="nan.ruled")
+
+
 UNARY = {
     "neg": {"float": "fneg", "int": "neg", "uint": "neg"},
     "invert": {"int": _not, "uint": _not, "bool": _not},
@@ -107,7 +131,7 @@ UNARY = {
     "ceil": {"float": _overloaded("llvm.ceil")},
     "trunc": {"float": _overloaded("llvm.trunc")},
     "round": {"float": _overloaded("llvm.roundeven")},
-    "sqrt": {"float": _overloaded("llvm.sqrt")},
+    "sqrt": {"float": lambda em, vt, a: _sqrt(em, vt, a)},
 }
 
 # name -> predicate symbol; all give Bool of the operand width.
@@ -216,7 +240,8 @@ def convert(em, src: VType, dst: VType, value, *, rounding: str = "trunc", satur
 
     float -> int rounds by ``rounding`` ("trunc" toward zero, "nearest" to even);
     with ``saturate`` out-of-range values clamp and NaN gives 0; without, the
-    result for such inputs is an unspecified (but fixed, never poison) value.
+    result for such inputs is an unspecified (but fixed, never poison) value: for a signed
+    32- or 64-bit result, x86's "integer indefinite" (the lowest integer) on every target.
     Integers of different sizes are sign- or zero-extended (by the source's
     signedness) or truncated.
     """
@@ -248,7 +273,15 @@ def convert(em, src: VType, dst: VType, value, *, rounding: str = "trunc", satur
         raise ValueError(f"rounding must be 'trunc' or 'nearest', not {rounding!r}")
     if saturate:
         return _saturating_to_int(em, src, dst, value, name)
-    return em.freeze(em.convert("fptosi" if d.signed else "fptoui", value, dst, name=name), name=name)
+    converted = em.freeze(em.convert("fptosi" if d.signed else "fptoui", value, dst, name=name), name=name)
+    if d.signed and d.bits >= 32 and em.settings.target.arch != "x86_64":
+        # x86's "integer indefinite" for NaN and out-of-range inputs (CVTTPS2DQ), on every target:
+        # the same bits everywhere (AArch64's FCVTZS saturates and gives 0 for NaN)
+        top = 2.0 ** (d.bits - 1)
+        fits = em.and_(em.fcmp("<", value, const(src, top), ordered=True, name=f"{name}.below"),
+                       em.fcmp(">=", value, const(src, -top), ordered=True, name=f"{name}.above"), name=f"{name}.fits")
+        converted = em.select(fits, converted, const(dst, -(2 ** (d.bits - 1))), name=name)
+    return converted
 
 
 def _saturating_to_int(em, src: VType, dst: VType, value, name: str):

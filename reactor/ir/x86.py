@@ -98,22 +98,3 @@ def estimate(em, op: str, vt: VType, value, features: frozenset[str]):
             value = em.call(fn, [value], name="sqrt")
         return em.fdiv(const(vt, 1.0), value, name=f"{op}.exact")
     return by_native_width(em, vt, value, natives)
-
-
-# -- the floating-point environment ----------------------------------------------------
-
-def save_fp_status(em):
-    """Save MXCSR (exception flags, rounding) in a stack slot; None on other architectures."""
-    if not em.module.build.target.triple.startswith(("x86_64", "i686")):
-        return None
-    slot = em.alloca(ir.IntType(32), "mxcsr")
-    i8p = ir.IntType(8).as_pointer()
-    em.call(em.intrinsic("llvm.x86.sse.stmxcsr", None, [i8p]), [em.bitcast(slot, i8p, name="mxcsr.p")])
-    return slot
-
-
-def restore_fp_status(em, slot) -> None:
-    """Restore what ``save_fp_status`` saved (the flags raised in between are dropped)."""
-    if slot is not None:
-        i8p = ir.IntType(8).as_pointer()
-        em.call(em.intrinsic("llvm.x86.sse.ldmxcsr", None, [i8p]), [em.bitcast(slot, i8p, name="mxcsr.p")])

@@ -22,7 +22,7 @@ import llvmlite
 import llvmlite.binding as llvm
 
 from ..errors import CompileError, ReactorError
-from ..targets import Target, host_features
+from ..targets import Target
 from . import cache
 
 _lock = threading.RLock()
@@ -167,8 +167,8 @@ class CompiledCode:
     def unrunnable_reason(self) -> str:
         """Why this code cannot run on this CPU (a target whose features the CPU lacks)."""
         return (f"code built for target '{self.target.name}' cannot run on this CPU "
-                f"(it lacks {', '.join(sorted(set(self.target.required) - host_features()))}); "
-                f"inspect its assembly instead")
+                f"({self.target.missing()}); inspect its assembly instead, or run it under an emulator "
+                f"(reactor.Emulator)")
 
     def address(self, name: str) -> int:
         if not self.target.runnable:

@@ -32,7 +32,7 @@ from ..dsl.control import final_results
 from ..dsl.values import to_ir, value_class
 from ..errors import DSLTypeError, at_return_of, return_location
 from ..ir import emitter as _em
-from ..ir import ops, x86
+from ..ir import fpenv, ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
 from ..dsl.limits import STATUS, messages_of
@@ -182,7 +182,7 @@ class LoopEmitter:
                           for k, ds in enumerate(self.core_dims)]
             self.strides = [[em.load(em.address(steps, t), name=f"stride{k}.{j}") for j, t in enumerate(ts)]
                             for k, ts in enumerate(self.core_strides)]
-            status = x86.save_fp_status(em)
+            status = fpenv.save_status(em)
             self.i = em.alloca(INDEX, "i")
             em.store(_idx(0), self.i)
             scalar = em.new_block("scalar")
@@ -192,7 +192,7 @@ class LoopEmitter:
                 em.branch(scalar)
             em.goto(scalar)
             self._scalar_loop()
-            x86.restore_fp_status(em, status)
+            fpenv.restore_status(em, status)
             em.ret(None)
             em.finish()
         return em.function

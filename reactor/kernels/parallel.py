@@ -161,17 +161,21 @@ def _runtime_addresses() -> None:
 
 # -- the native runtime ------------------------------------------------------------------------
 
+RUNTIME_EXPORTS = ("reactor_parallel_for", "reactor_prepare", "reactor_raise")
+
+
 @functools.cache
-def runtime():
-    """The compiled runtime of this process (built once, cached on disk): ``reactor_parallel_for``
-    and ``reactor_prepare`` (every kernel's layout decisions, kept out of each kernel's code)."""
-    build = BuildOptions(target="host", width=1).resolved()
+def runtime(target: str = "host") -> CompiledCode:
+    """The compiled runtime (built once per process and target, cached on disk):
+    ``reactor_parallel_for`` and ``reactor_prepare`` (every kernel's layout decisions, kept out
+    of each kernel's code). The host's is loaded into this process; another target's is object
+    code to link elsewhere (``reactor.kernels.emulated``)."""
+    build = BuildOptions(target=target, width=1).resolved()
     module = _em.ModuleEmitter("reactor.parallel", build)
     _emit_runtime(module)
     _emit_prepare(module)
     _emit_raise(module)
-    return CompiledCode(module.text, build.target, build.opt,
-                        ("reactor_parallel_for", "reactor_prepare", "reactor_raise"), build.cache)
+    return CompiledCode(module.text, build.target, build.opt, RUNTIME_EXPORTS, build.cache)
 
 
 def _emit_raise(module) -> None:

@@ -36,7 +36,7 @@ def test_host_target():
     assert host.runnable
     assert host.natural_width == (16 if "avx512f" in host.feature_set else 8 if "avx2" in host.feature_set else 4)
     assert host.has_fma == ("fma" in host.feature_set)
-    assert set(TARGETS) == {"host", "avx512", "avx2", "sse4"}
+    assert set(TARGETS) == {"host", "avx512", "avx2", "sse4", "aarch64"}
     with pytest.raises(reactor.ReactorError, match="unknown target"):
         get_target("riscv")
     with pytest.raises(reactor.ReactorError, match="unknown target"):
