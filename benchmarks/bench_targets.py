@@ -1,0 +1,177 @@
+"""Speed per target: the routines at each x86 level against NumPy and libmvec at the same level,
+and the instructions of each variant's vector loop on every target, AArch64 included.
+
+For each x86 level this CPU runs (sse4, avx2, avx512), a child process times, at 64K float32
+(one thread, median of interleaved repetitions):
+
+* ours: ``routines.jit(name, precision, target=level)`` (FMA as the target has it);
+* NumPy restricted to the level (``NPY_DISABLE_CPU_FEATURES``: at sse4 its X86_V3/X86_V4 and
+  AVX-512 loops are disabled, at avx2 its X86_V4 and AVX-512 ones; NumPy 2.4's names);
+* glibc libmvec's entry points of the level (``_ZGVbN4v_*`` SSE, ``_ZGVdN8v_*`` AVX2,
+  ``_ZGVeN16v_*`` AVX-512), called from a reactor kernel built for the same level.
+
+The figure to reach (issue 21): ours faster than NumPy and at most 1.1x libmvec's time, for
+every full and relaxed exp2, log2 and pow at sse4 and avx2.
+
+    python benchmarks/bench_targets.py [--json out/bench_targets.json] [--reps 41]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import time
+
+FUNCTIONS = ("exp2", "log2", "pow")
+PRECISIONS = ("full", "relaxed")
+LEVELS = {  # level -> (NumPy features to disable, libmvec ISA letter, lanes)
+    "sse4": ("X86_V3 X86_V4 AVX512_ICL AVX512_SPR", "b", 4),
+    "avx2": ("X86_V4 AVX512_ICL AVX512_SPR", "d", 8),
+    "avx512": ("", "e", 16),
+}
+N = 65536
+
+
+def _libmvec(name: str, level: str):
+    import reactor
+    from reactor import External, Float
+
+    _, isa, lanes = LEVELS[level]
+    arity = 2 if name == "pow" else 1
+    symbol = f"_ZGV{isa}N{lanes}{'v' * arity}_{name}f"
+    vec = reactor.vector_type("Float", lanes)
+    ext = External(symbol, returns=vec, args=(vec,) * arity, library="libmvec.so.1")
+    if not ext.available:
+        return None, symbol
+    body = (lambda x: ext(x)) if arity == 1 else (lambda x, y: ext(x, y))
+    return reactor.kernel(body, name=f"mvec_{name}_{level}", args=[Float] * arity, returns=Float,
+                          width=lanes, target=level), symbol
+
+
+def child(level: str, reps: int) -> dict:
+    """Time every function and precision at ``level`` (NumPy was restricted by the parent)."""
+    import numpy as np
+
+    import routines
+
+    rng = np.random.default_rng(21)
+    inputs = {"exp2": (rng.uniform(-100, 100, N).astype(np.float32),),
+              "log2": (rng.uniform(1e-3, 1e3, N).astype(np.float32),),
+              "pow": (rng.uniform(1e-2, 1e2, N).astype(np.float32), rng.uniform(-8, 8, N).astype(np.float32))}
+    numpy_fn = {"exp2": np.exp2, "log2": np.log2, "pow": np.power}
+    out = np.empty(N, np.float32)
+    rows = []
+    for name in FUNCTIONS:
+        args = inputs[name]
+        mvec, symbol = _libmvec(name, level)
+        contenders = {"numpy": numpy_fn[name]}
+        if mvec is not None:
+            contenders["libmvec"] = mvec
+        for precision in PRECISIONS:
+            contenders[precision] = routines.jit(name, precision=precision, target=level)
+        times: dict[str, list[float]] = {k: [] for k in contenders}
+        for fn in contenders.values():
+            fn(*args, out=out)  # warm
+        for _ in range(reps):
+            for key, fn in contenders.items():
+                t = time.perf_counter()
+                fn(*args, out=out)
+                times[key].append(time.perf_counter() - t)
+        ns = {k: statistics.median(v) / N * 1e9 for k, v in times.items()}
+        for precision in PRECISIONS:
+            rows.append({"level": level, "function": name, "precision": precision, "ns": ns[precision],
+                         "numpy_ns": ns["numpy"], "libmvec_ns": ns.get("libmvec"), "libmvec": symbol,
+                         "vs_numpy": ns[precision] / ns["numpy"],
+                         "vs_libmvec": ns[precision] / ns["libmvec"] if "libmvec" in ns else None})
+    return {"level": level, "numpy_disabled": LEVELS[level][0], "rows": rows}
+
+
+def _loop_instructions(assembly: str, arch: str) -> int:
+    """Instructions of the vector loop: the backward-branching region (label to branch) with the
+    most packed float instructions."""
+    lines = [ln.strip() for ln in assembly.splitlines()]
+    labels = {ln[:-1]: i for i, ln in enumerate(lines) if re.match(r"^\.LBB\d+_\d+:$", ln)}
+    best = (0, 0)
+    packed = re.compile(r"\.4s|\.2d|%[xyz]mm|ps\s|pd\s" if arch == "aarch64" else r"ps\s|pd\s|%[yz]mm")
+    for j, ln in enumerate(lines):
+        m = re.match(r"^(b\.\w+|j\w+|b)\s+(\.LBB\d+_\d+)$", ln)
+        if m and labels.get(m.group(2), j + 1) < j:
+            body = [x for x in lines[labels[m.group(2)] + 1:j + 1]
+                    if x and not x.startswith((".", "#", "//")) and not x.endswith(":")]
+            vec = sum(1 for x in body if packed.search(x + " "))
+            if vec > best[0]:
+                best = (vec, len(body))
+    return best[1]
+
+
+def instruction_counts() -> list[dict]:
+    """Vector-loop instructions per variant and target (FMA as each target has it)."""
+    import reactor
+    import routines
+
+    rows = []
+    targets = ("sse4", "avx2", "avx512", "aarch64")
+    for name in FUNCTIONS:
+        for precision in PRECISIONS:
+            row = {"function": name, "precision": precision}
+            for target in targets:
+                k = reactor.kernel_of(routines.jit(name, precision=precision, target=target))
+                n = _loop_instructions(k.assembly, reactor.get_target(target).arch)
+                row[target] = {"instructions": n, "lanes": k.build.width, "per_element": round(n / k.build.width, 2)}
+            rows.append(row)
+    return rows
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", metavar="FILE")
+    parser.add_argument("--reps", type=int, default=41)
+    parser.add_argument("--child", choices=LEVELS, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.child:
+        print(json.dumps(child(args.child, args.reps)))
+        return 0
+    import reactor
+    levels = [lv for lv in LEVELS if reactor.get_target(lv).runnable]
+    results = []
+    for level in levels:
+        env = dict(os.environ, NPY_DISABLE_CPU_FEATURES=LEVELS[level][0])
+        if not LEVELS[level][0]:
+            env.pop("NPY_DISABLE_CPU_FEATURES")
+        done = subprocess.run([sys.executable, __file__, "--child", level, "--reps", str(args.reps)],
+                              env=env, capture_output=True, text=True, check=True)
+        results.append(json.loads(done.stdout.strip().splitlines()[-1]))
+    print(f"{'level':7s} {'function':5s} {'precision':8s} {'ns/elem':>8s} {'NumPy':>7s} {'libmvec':>8s}"
+          f" {'vs NumPy':>9s} {'vs libmvec':>10s}  figure")
+    misses = 0
+    for res in results:
+        for r in res["rows"]:
+            ok = r["vs_numpy"] < 1 and (r["vs_libmvec"] is None or r["vs_libmvec"] <= 1.1)
+            if r["level"] in ("sse4", "avx2") and not ok:
+                misses += 1
+            mv = f"{r['libmvec_ns']:8.3f}" if r["libmvec_ns"] else "  absent"
+            vm = f"{r['vs_libmvec']:9.2f}x" if r["vs_libmvec"] else "         -"
+            print(f"{r['level']:7s} {r['function']:5s} {r['precision']:8s} {r['ns']:8.3f} {r['numpy_ns']:7.3f} "
+                  f"{mv} {r['vs_numpy']:8.2f}x {vm}  {'PASS' if ok else 'MISS'}")
+    counts = instruction_counts()
+    print("\nvector-loop instructions (per element): " + ", ".join(("sse4", "avx2", "avx512", "aarch64")))
+    for row in counts:
+        cells = "  ".join(f"{t} {row[t]['instructions']} ({row[t]['per_element']})"
+                          for t in ("sse4", "avx2", "avx512", "aarch64"))
+        print(f"{row['function']:5s} {row['precision']:8s} {cells}")
+    print(f"\n{misses} of {sum(len(r['rows']) for r in results if r['level'] in ('sse4', 'avx2'))} "
+          f"sse4/avx2 variants miss the figure (faster than NumPy, <= 1.1x libmvec)")
+    if args.json:
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
+        with open(args.json, "w") as f:
+            json.dump({"cpu": reactor.get_target("host").cpu, "timings": results, "instructions": counts}, f,
+                      indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
