@@ -140,7 +140,10 @@ def test_the_model_takes_the_blocks_every_iteration_runs():
 
     import reactor
     import routines
-    for name, skipped in (("exp2", False), ("pow", False), ("sin", True), ("tan", True), ("asin", False)):
+    # without AVX-512, log2 (and so pow) has a cold block too: the general Exponent/Significand path
+    portable_log2 = "avx512f" not in reactor.get_target().feature_set
+    for name, skipped in (("exp2", False), ("pow", portable_log2), ("sin", True), ("tan", True),
+                          ("asin", False), ("log2", portable_log2)):
         k = reactor.kernel_of(routines.jit(name, "full", True))
         fn = llvm.parse_assembly(k.optimized_ir).get_function(f"{k.name}.loop")
         body, left_out = model.iteration(fn)
