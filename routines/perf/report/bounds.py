@@ -3,42 +3,50 @@
 Contract: :func:`window_bound` reads a reactor ufunc's optimized IR (nothing is
 run) and returns its out-of-order window bound; :func:`gap_verdict` is a pure
 function of cycles/vector figures; :func:`attach_gaps` sets ``variant["gap"]``
-(the verdict at the L1 and L2 sizes) on every variant that has timings. The
-core figures (``FP_SCHEDULER``, ``DISPATCH``) are those of the core the
-model's table describes (:data:`routines.perf.model.ZEN4`), not read from the
-host.
+(the verdict at the L1 and L2 sizes, and the model table it was judged
+against) on every variant that has timings. The latencies and the core
+figures (``FP_SCHEDULER``, ``DISPATCH``) are those of the model's table for
+this host (:func:`routines.perf.model.host_machine`: Zen 3/4/5, Golden Cove,
+Sunny Cove, Skylake-X, Haswell, Neoverse V1, or the stated generic
+assumption), the same table the variants' predictions use.
 """
 from __future__ import annotations
 
 import math
 
+from .. import model as M
 from .speed import cycles_per_element as _cy
 
-#: FP scheduler entries of the model's core (Zen 4: 2 x 32 macro-ops, AMD SOG for family 19h,
-#: section 2.11); the effective figure of a run comes from the window probe (:mod:`.probes`).
-FP_SCHEDULER = 64
-DISPATCH = 6  # macro-ops dispatched per cycle by the model's core (Zen 4: AMD SOG, 2.9.8)
+#: The model's table for this host: its name goes with every bound and verdict.
+MACHINE = M.host_machine()
+#: FP scheduler entries of the model's core (Zen 3/4: 2 x 32 macro-ops, AMD SOG for family 19h,
+#: section 2.11; the other cores: ``model.MACHINES``); the effective figure of a run comes
+#: from the window probe (:mod:`.probes`).
+FP_SCHEDULER = MACHINE.fp_scheduler
+DISPATCH = MACHINE.dispatch  # macro-ops dispatched per cycle by the model's core (Zen 3/4: AMD SOG, 2.9.8)
 GAP = 1.3  # the target: measured within 1.3x of the model
 
 
-def window_bound(ufunc) -> dict:
-    """The out-of-order window bound of a kernel's vector loop.
+def window_bound(ufunc, machine=None) -> dict:
+    """The out-of-order window bound of a kernel's vector loop on ``machine`` (a
+    ``model.Machine`` or table name; default the host's table, :data:`MACHINE`).
 
     An operation waits in the FP scheduler from dispatch until its operands are
     ready. Take one iteration of ``vec.body`` dispatched in program order at
-    ``DISPATCH`` ops per cycle and its ASAP schedule with the model's
-    latencies: the sum over FP operations of (start - dispatch) is the
+    the machine's ``dispatch`` ops per cycle and its ASAP schedule with the
+    table's latencies: the sum over FP operations of (start - dispatch) is the
     scheduler occupancy one iteration costs, in op-cycles. The scheduler
-    holds ``FP_SCHEDULER`` ops, so by Little's law an iteration cannot start
-    more often than every ``sum / FP_SCHEDULER`` cycles however many pipes are
+    holds ``fp_scheduler`` ops, so by Little's law an iteration cannot start
+    more often than every ``sum / fp_scheduler`` cycles however many pipes are
     free. This bites long dependent chains at narrow widths (the same chain
     and op count carry half or a quarter of the elements of a zmm iteration).
+    An operation on a vector wider than the machine's registers is as many
+    native instructions (macro-ops) as it takes registers.
     """
     import llvmlite.binding as llvm
     from reactor import kernel_of
 
-    from .. import model as M
-
+    m = MACHINE if machine is None else M.as_machine(machine)
     kern = kernel_of(ufunc)
     fn = llvm.parse_assembly(kern.optimized_ir).get_function(f"{kern.name}.loop")
     body, _ = M.iteration(fn)  # the blocks every iteration runs (the model's)
@@ -53,13 +61,16 @@ def window_bound(ufunc) -> dict:
         elif M._key(instr) in minmax:
             cls = "fminmax"
         start = max((finish.get(M._key(op), 0.0) for op in instr.operands), default=0.0)
-        finish[M._key(instr)] = start + (M.ZEN4[cls].latency if cls else 0.0)
+        bits = M._bits(instr)
+        finish[M._key(instr)] = start + (m.cost(cls, bits)[1].latency if cls else 0.0)
+        ops = max(1, math.ceil(bits / m.vector_bits))  # native instructions
         if cls and cls not in ("load", "store"):
-            wait += max(0.0, start - position / DISPATCH)
-            fp_ops += 1
+            wait += ops * max(0.0, start - position / m.dispatch)
+            fp_ops += ops
         if cls:
-            position += 1
-    return {"wait_op_cycles": wait, "fp_ops": fp_ops, "cycles_per_vector": wait / FP_SCHEDULER}
+            position += ops
+    return {"wait_op_cycles": wait, "fp_ops": fp_ops, "cycles_per_vector": wait / m.fp_scheduler,
+            "fp_scheduler": m.fp_scheduler, "machine": m.label}
 
 
 def gap_verdict(measured_cv: float, pipe_cv: float, window_cv: float,
@@ -113,8 +124,8 @@ def attach_gaps(variants, floors, state) -> None:
     """Set ``v["gap"]`` of every variant (in place): at the L1 and L2 sizes where
     it was timed, its measured cycles/vector, the copy floor of its width, the
     window bound at the run's effective window (``state``: size -> the probes'
-    :func:`~routines.perf.report.probes.machine_state`; absent: a quiet core)
-    and the :func:`gap_verdict`."""
+    :func:`~routines.perf.report.probes.machine_state`; absent: a quiet core),
+    the :func:`gap_verdict` and the model table (``"model"``: :data:`MACHINE`'s label)."""
     floor_of = {f["key"]: f for f in floors}
     for v in variants:  # where it spends, at the L1 and L2 sizes
         m = v["model"]
@@ -130,4 +141,5 @@ def attach_gaps(variants, floors, state) -> None:
                 status, why = gap_verdict(cv, m["cycles_per_vector"], window_cv, floor_cv, st["pipe_factor"])
                 v["gap"][size] = {"measured_cycles_per_vector": cv, "floor_cycles_per_vector": floor_cv,
                                   "window_cycles_per_vector": window_cv,
-                                  "ratio": cv / m["cycles_per_vector"], "status": status, "why": why}
+                                  "ratio": cv / m["cycles_per_vector"], "status": status, "why": why,
+                                  "model": MACHINE.label}

@@ -88,7 +88,8 @@ def print_table(report, size: str = "L2") -> str:
                  f"max error / tolerance (ours: own precision; peers: full). ok: ours against their own "
                  f"precision's tolerance (specials = only special-value mismatches); peers: the tolerance "
                  f"class met (highp/relaxed/neither), * = special-value mismatches (C99 semantics).")
-    lines += ["", f"Where each variant spends (model, {size}):"]
+    tables = sorted({g["model"] for v in report["variants"] for g in v.get("gap", {}).values() if "model" in g})
+    lines += ["", f"Where each variant spends ({', '.join(tables) or 'model'}, {size}):"]
     for v in report["variants"]:
         m, g = v["model"], v.get("gap", {}).get(size, {})
         lines.append(f"  {v['key']:26} {m['cycles_per_vector']:5.1f} c/v {m['bottleneck']}; window "
