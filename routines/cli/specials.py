@@ -14,6 +14,12 @@ the compiled kernels by `tests/routines/test_specials.py`; this page is
 generated from the same table (`routines/specials.py`) by
 `python -m routines specials > docs/specials.md`.
 
+NaN bits are the same on every target (avx512, avx2, sse4, aarch64): a NaN input
+gives that NaN quieted, a domain error (log2 of a negative, pow(0, 0), sin(inf),
+acos(2), sqrt(-1)) the default NaN 0xffc00000, which sin, cos, tan, asin, atan2
+may then give a sign like any result (`docs/dsl.md`, "Targets and the same bits
+everywhere"; `python -m routines crosstarget` compares every bit per target).
+
 """
 
 

@@ -62,9 +62,9 @@ def _strided(args):
     return tuple(a[: a.size // 64 * 2: 2] for a in args)
 
 
-def variants(functions):
+def variants(functions, precisions=PRECISIONS):
     for name in functions:
-        for precision in PRECISIONS:
+        for precision in precisions:
             for fma in (True, False):
                 yield name, precision, fma
 
@@ -78,13 +78,14 @@ def _differences(ref: np.ndarray, got: np.ndarray, args) -> dict:
     return {"differ": int(bad.size), "nan_only": nan_only, "examples": examples}
 
 
-def compare(functions, targets, reference: str = "host", n: int = 2 ** 20, progress=None) -> list[dict]:
+def compare(functions, targets, reference: str = "host", n: int = 2 ** 20, progress=None,
+            precisions=PRECISIONS) -> list[dict]:
     """One row per (variant, target): how many of the ``n`` outputs (contiguous, then strided)
     differ from the reference target's in any bit."""
     import reactor
 
     rows: list[dict] = []
-    todo = list(variants(functions))
+    todo = list(variants(functions, precisions))
     foreign = [t for t in targets if not reactor.get_target(t).runnable]
     runs: dict[tuple, list] = {}
     for target in foreign:
@@ -120,10 +121,11 @@ def compare(functions, targets, reference: str = "host", n: int = 2 ** 20, progr
     return rows
 
 
-def exhaustive(functions, targets, reference: str = "host", chunk: int = 2 ** 24, progress=None) -> list[dict]:
+def exhaustive(functions, targets, reference: str = "host", chunk: int = 2 ** 24, progress=None,
+               precisions=PRECISIONS) -> list[dict]:
     """Every 2^32 input of each unary variant on each runnable target against the reference."""
     rows = []
-    for name, precision, fma in variants(functions):
+    for name, precision, fma in variants(functions, precisions):
         if name in BINARY:
             continue
         ref_fn = _ufunc(name, precision, fma, reference)
@@ -173,6 +175,8 @@ def main(argv=None) -> int:
     parser.add_argument("--reference", default="host", choices=reactor.TARGETS, help="default: host")
     parser.add_argument("--functions", nargs="+", choices=NAMES, metavar="F", default=list(NAMES),
                         help="default: every routine")
+    parser.add_argument("--precisions", nargs="+", choices=PRECISIONS, default=list(PRECISIONS), metavar="P",
+                        help="default: " + " ".join(PRECISIONS))
     parser.add_argument("--n", type=int, default=2 ** 20, help="inputs per variant (default 2^20)")
     parser.add_argument("--exhaustive", action="store_true",
                         help="every 2^32 input of the unary variants (x86 targets this CPU runs)")
@@ -189,9 +193,10 @@ def main(argv=None) -> int:
     progress = None if args.quiet else lambda row: print(_line(row), flush=True)
     start = time.perf_counter()
     if args.exhaustive:
-        rows = exhaustive(args.functions, targets, args.reference, progress=progress)
+        rows = exhaustive(args.functions, targets, args.reference, progress=progress, precisions=args.precisions)
     else:
-        rows = compare(args.functions, targets, args.reference, args.n, progress=progress)
+        rows = compare(args.functions, targets, args.reference, args.n, progress=progress,
+                       precisions=args.precisions)
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)
