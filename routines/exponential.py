@@ -26,7 +26,9 @@ because f = 0 there and y = k exactly.
 from __future__ import annotations
 
 import reactor
-from reactor import As, Min, MulAdd, Precision, ReduceDown, Select, ToInt, fma_mode, vector_type
+from reactor import (
+    As, Floor, Max, Min, MulAdd, Precision, ReduceDown, Select, ToInt, fma_mode, target_features, vector_type,
+)
 
 from .base import float_value, routine
 from .polynomials import EXP2_FULL, EXP2_RELAXED
@@ -54,23 +56,40 @@ def insert_exponent(y, float_trick: bool):
 
 
 def fix_specials(x, f, r):
-    """+0 where 2^x is below the normal range (x < -126), NaN where x is NaN."""
+    """+0 where 2^x is below the normal range (x < -126, -inf), x quieted where x is NaN.
+    ``f`` is ReduceDown(x) (finite for every non-NaN x, so f - f is +0 or NaN) where the
+    target computes it in one instruction; None elsewhere (it is NaN for -inf there)."""
     tiny_or_nan = ~(x >= -126.0)  # unordered-or-less: one compare for both cases
-    return Select(tiny_or_nan, f - f, r)  # f - f: +0 (f is finite, even for -inf), NaN for NaN
+    low = f if f is not None else Max(-1.0, x)  # or -1 there, or the NaN x (Max's second operand)
+    return Select(tiny_or_nan, low - low, r)  # +0, or x quieted
+
+
+def reduce_down(x):
+    """``ReduceDown(x)`` as exp2 reads it: one VREDUCEPS with AVX-512DQ. Elsewhere the same
+    value for finite x except the sign of a zero (exp2 adds f * P(f) to x, where ±0 give the
+    same y), and NaN for ±inf (y is then NaN: +inf saturates to +inf, -inf is one of
+    fix_specials' lanes): 7 operations instead of ReduceDown's 12."""
+    if "avx512dq" in target_features():
+        return ReduceDown(x)
+    Int_, Float_ = vector_type("Int", x.width), vector_type("Float", x.width)
+    fl = Floor(x)
+    s = x - fl                                           # exact, except for -0.5 < x < 0 (rounded to nearest)
+    below = As(Float_, As(Int_, s) - 1)                  # where it rounded up: the float below (s > 0 there)
+    return Select(x < s + fl, below, s)
 
 
 @routine
 def exp2(x, precision: Precision = Precision.FULL):
     """2^x for Float values of any width; see the module docstring."""
     x = float_value(x, "exp2")
-    f = ReduceDown(x)
+    f = reduce_down(x)
     if precision is Precision.FULL:
         y = MulAdd(EXP2_FULL(f), f, x)
         r = insert_exponent(y, float_trick=False)
     else:
         y = MulAdd(EXP2_RELAXED(f), f, x)
         r = insert_exponent(y, float_trick=reactor.build_settings().fma)
-    return fix_specials(x, f, r).named("exp2")
+    return fix_specials(x, f if "avx512dq" in target_features() else None, r).named("exp2")
 
 
 @routine

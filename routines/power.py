@@ -70,7 +70,9 @@ def pow(x, y, precision: Precision = Precision.FULL):  # noqa: A001 - the routin
         return _whole_power(x, int(y)).named("pow")
     y = float_value(y, "pow", "y")
     lx = log2(x, precision=precision)                      # NaN for a NaN x (quieted) or x < 0 (0xffc00000)
-    return nan_rule(exp2(y * lx, precision=precision), lx, y).named("pow")
+    t = y * lx
+    t = reactor.Select(reactor.IsNan(lx), lx, t)           # x's NaN first, whatever order the multiply has
+    return nan_rule(exp2(t, precision=precision), lx, y).named("pow")
 
 
 reactor.set_power(pow)  # x ** y in the DSL, for a y other than a small whole number
