@@ -44,9 +44,9 @@ _DRIVER = r"""
 
 typedef void (*loop_fn)(char **, int64_t *, int64_t *, void *);
 struct settings { int64_t threads, threshold, min_work; void *parallel_for, *prepare, *gil_ensure, *err_set,
-                  *gil_release, *runtime_error; };
+                  *gil_release, *runtime_error, *move; };
 struct config { struct settings *settings; int64_t nargs, cycles; const char **messages; int64_t ndims; };
-extern char reactor_prepare[];
+extern char reactor_prepare[], reactor_move[];
 %(externs)s
 static loop_fn kernels[] = {%(table)s};
 static int runaway;
@@ -66,7 +66,7 @@ int main(int argc, char **argv) {
     FILE *in = fopen(argv[1], "rb"), *out = fopen(argv[2], "wb");
     if (!in || !out) { perror("driver"); return 2; }
     struct settings settings = {1, INT64_MAX, INT64_MAX, NULL, reactor_prepare, (void *)gil_ensure,
-                                (void *)err_set, (void *)gil_release, NULL};
+                                (void *)err_set, (void *)gil_release, NULL, reactor_move};
     int64_t calls = get(in);
     for (int64_t c = 0; c < calls; c++) {
         int64_t which = get(in), nargs = get(in), nin = get(in), n = get(in);

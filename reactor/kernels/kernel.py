@@ -62,6 +62,12 @@ _registry_lock = threading.Lock()
 _memo: "dict[tuple, weakref.ref[Kernels]]" = {}
 
 
+#: Vector bodies of at least this many IR instructions are compiled once (see ``Kernel._module``):
+#: below it a second, width-1 body compiles faster than the code that gathers elements for the
+#: vector body (``python benchmarks/bench_compile.py`` measures both sides).
+ONE_BODY_MIN = 200
+
+
 class Kernel(ShowsCode):
     """A compiled kernel: its ufunc's machine code and how it was made (``routines``: the
     library routines it calls, with precision, FMA and the user's line)."""
@@ -98,7 +104,13 @@ class Kernel(ShowsCode):
         try:
             module = _em.ModuleEmitter(name, build, lines=lines)
             vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
-            scalar = emit_body(module, name, body, ins, outs, 1)
+            # A large body is compiled once: the vector body also serves the elements the vector loop
+            # cannot read in place (reactor_move gathers them into W-lane buffers). A small one is
+            # traced again at width 1 for them: its copy costs less than the gathering code. Uniform
+            # operands, which may differ per element, always take the width-1 body.
+            needs_scalar = (vector is None or any(o.uniform for o in ins)
+                            or _em.ModuleEmitter.instruction_count(vector) < ONE_BODY_MIN)
+            scalar = emit_body(module, name, body, ins, outs, 1) if needs_scalar else None
             serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width).emit()
             emit_dispatcher(module, f"{name}.ufunc", serial)
             module.text  # noqa: B018 - serialized here, once, still without collections

@@ -36,13 +36,14 @@ from ..ir import fpenv, ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
 from ..dsl.limits import STATUS, messages_of
-from .parallel import CYCLES_SCALE
+from .parallel import CYCLES_SCALE, MOVE_PARAMS
 
 BOOL = KINDS["Bool"]
+BOOL_MEM = VType(T.BYTE_KIND, 1)
 LOOP_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), T.BYTES]
 LOOP_NAMES = ["args", "dims", "steps", "data"]
 #: The runtime's settings and a kernel's LoopConfig (reactor.kernels.parallel), as the IR sees them.
-SETTINGS = T.StructType((INDEX, INDEX, INDEX, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES))
+SETTINGS = T.StructType((INDEX, INDEX, INDEX, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES))
 _CONFIG = T.StructType((T.Address(SETTINGS), INDEX, INDEX, T.BYTES_ARRAY, INDEX))
 #: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes)
 PREPARE_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), INDEX, INDEX, T.PointerType(INDEX),
@@ -191,7 +192,8 @@ class LoopEmitter:
             else:
                 em.branch(scalar)
             em.goto(scalar)
-            self._scalar_loop()
+            if self.scalar_fn is not None:
+                self._scalar_loop()
             fpenv.restore_status(em, status)
             em.ret(None)
             em.finish()
@@ -256,13 +258,52 @@ class LoopEmitter:
         for c, slot in enumerate(slots):
             em.store(em.load(em.address(srcs, c), name=f"src{c}"), slot)
         uniforms = {k: self._uniform_args(k, _idx(0)) for k, o in enumerate(self.ins) if o.uniform}
-        head, body = em.new_block("vec.cond"), em.new_block("vec.body")
-        em.branch(head)
-        em.goto(head)
-        i = em.load(self.i, name="i")
-        em.cbranch(self._cmp("lt", i, n_fast), body, exit_block)
+        gathered = self.scalar_fn is None  # the vector body also serves the other elements (reactor_move)
+        if gathered:
+            # Chunks: the elements the vector loop reads in place (0 .. n.fast), then the others, W
+            # (or, for accumulations, 1) at a time through W-lane buffers (reactor_move), each run of
+            # the one inner loop below, which holds the one copy of the body.
+            move = em.load(em.field(settings, 9), name="move")
+            columns = self._move_columns(cols, W)
+            count, moved, gathering = (em.alloca(INDEX, "run.count"), em.alloca(INDEX, "run.k"),
+                                       em.alloca(BOOL_MEM, "run.gathered"))
+            chunk, direct, gather, done_run = (em.new_block(b) for b in ("chunk", "chunk.direct", "chunk.gather",
+                                                                         "chunk.done"))
+            em.branch(chunk)
+            em.goto(chunk)
+            i = em.load(self.i, name="i")
+            pick = em.new_block("chunk.pick")
+            em.cbranch(self._cmp("lt", i, self.n), pick, exit_block)
+            em.goto(pick)
+            em.cbranch(self._cmp("lt", i, n_fast), direct, gather)
+            em.goto(direct)
+            em.store(ops.binary(em, "lshr", INDEX, n_fast, _idx(W.bit_length() - 1)), count)  # n.fast / W
+            em.store(T.const(BOOL_MEM, 0), gathering)
+            run = em.new_block("run")
+            em.branch(run)
+            em.goto(gather)
+            k = em.call_pointer(move, INDEX, MOVE_PARAMS, [_idx(0)] + columns + [i, self.n, _idx(0)] +
+                                self._move_buffer, name="chunk.k")
+            em.store(k, moved)
+            em.store(_idx(1), count)
+            em.store(T.const(BOOL_MEM, 1), gathering)
+            for c, slot in enumerate(slots):
+                em.store(em.address(self._move_buffer[1], _idx(c * self._slot_bytes)), slot)
+            em.branch(run)
+            em.goto(run)
+            j = em.alloca(INDEX, "j")
+            em.store(_idx(0), j)
+            head, body = em.new_block("vec.cond"), em.new_block("vec.body")
+            em.branch(head)
+            em.goto(head)
+            em.cbranch(self._cmp("lt", em.load(j, name="j"), em.load(count, name="runs")), body, done_run)
+        else:
+            head, body = em.new_block("vec.cond"), em.new_block("vec.body")
+            em.branch(head)
+            em.goto(head)
+            i = em.load(self.i, name="i")
+            em.cbranch(self._cmp("lt", i, n_fast), body, exit_block)
         em.goto(body)
-        i = em.load(self.i, name="i")
         ptrs = {k: em.load(slots[c], name=f"p{c}") for c, k in enumerate(cols)}
         xs: list = []
         for k, o in enumerate(self.ins):
@@ -272,13 +313,52 @@ class LoopEmitter:
                 xs.extend(self._load_vector(o, ptrs[k], f"x{k}"))
         results = self._call(self.vector_fn, xs, inline="always")
         at = 0
-        for j, o in enumerate(self.outs):
-            self._store_vector(o, results[at:at + o.channels], ptrs[len(self.ins) + j])
+        for jo, o in enumerate(self.outs):
+            self._store_vector(o, results[at:at + o.channels], ptrs[len(self.ins) + jo])
             at += o.channels
         for c, k in enumerate(cols):
             em.store(em.address(ptrs[k], step_of[c], name=f"p{c}.next"), slots[c])
-        em.store(self._add(i, _idx(W)), self.i)
+        if not gathered:
+            em.store(self._add(em.load(self.i, name="i"), _idx(W)), self.i)
+            em.branch(head)
+            return
+        em.store(self._add(em.load(j, name="j"), _idx(1)), j)
         em.branch(head)
+        em.goto(done_run)
+        out, direct_done, after = em.new_block("chunk.out"), em.new_block("chunk.fast"), em.new_block("chunk.next")
+        em.cbranch(em.icmp("!=", em.load(gathering, name="gathered"), T.const(BOOL_MEM, 0), signed=False,
+                           name="gathered"), out, direct_done)
+        em.goto(out)
+        i = em.load(self.i, name="i")
+        k = em.load(moved, name="k")
+        em.call_pointer(move, INDEX, MOVE_PARAMS, [_idx(1)] + columns + [i, self.n, k] + self._move_buffer,
+                        name="moved")
+        em.store(self._add(i, k), self.i)
+        em.branch(after)
+        em.goto(direct_done)
+        em.store(n_fast, self.i)
+        em.branch(after)
+        em.goto(after)
+        em.branch(chunk)
+
+    def _move_columns(self, cols, W):
+        """The column descriptors ``reactor_move`` reads (pointers, steps, channel strides, channels,
+        bytes a channel, counts), and its buffer (set in ``self._move_buffer``)."""
+        em = self.em
+        n = max(1, len(cols))
+        ptrs = em.alloca(T.BYTES, "mv.ptrs", count=n)
+        arrays = [em.alloca(INDEX, f"mv.{what}", count=n) for what in ("steps", "cstrides", "channels", "kbytes")]
+        for c, k in enumerate(cols):
+            o = self.operands[k]
+            cstride = self._channel_stride(k) if o.channels > 1 else _idx(o.kind.mem_bytes)
+            em.store(self.ptrs[k], em.address(ptrs, c))
+            for array, value in zip(arrays, (self.steps[k], cstride, _idx(o.channels), _idx(o.kind.mem_bytes))):
+                em.store(value, em.address(array, c))
+        slot_bytes = -(-W * max([8] + [self.operands[k].item_bytes for k in cols]) // 64) * 64
+        buf = em.alloca(VType(T.BYTE_KIND, 16), "mv.buf", count=n * slot_bytes // 16)
+        self._slot_bytes = slot_bytes
+        self._move_buffer = [_idx(W), em.cast_pointer(buf, T.BYTE), _idx(slot_bytes)]
+        return [ptrs] + arrays + [_idx(len(cols)), _idx(self.n_in_columns)]
 
     def _load_vector(self, o, ptr, name):
         """W elements of an iterated operand: one value, or its channels deinterleaved."""

@@ -18,6 +18,7 @@ iterated operand (elements and vectors: its *columns*) as one element of
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 from ..errors import DSLTypeError
 from ..ir.types import INDEX, Kind, PointerType, VType
@@ -88,7 +89,19 @@ class Operand:
 
 
 def operand_of(name: str, spec) -> Operand:
-    """The Operand of a kernel parameter or result annotation."""
+    """The Operand of a kernel parameter or result annotation (remembered: a memory hit asks again)."""
+    try:
+        return _operand_cached(name, spec)
+    except TypeError:  # an unhashable annotation: its error (or Operand) the long way
+        return _operand_of(name, spec)
+
+
+@functools.lru_cache(maxsize=4096)
+def _operand_cached(name: str, spec) -> Operand:
+    return _operand_of(name, spec)
+
+
+def _operand_of(name: str, spec) -> Operand:
     from ..dsl.signature import resolve
     from ..dsl.vectors import Mat, Vec
 

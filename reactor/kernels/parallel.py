@@ -63,7 +63,8 @@ class SettingsStruct(ctypes.Structure):
                 ("parallel_for", ctypes.c_void_p), ("prepare", ctypes.c_void_p),
                 # how a kernel's loop raises a Python error (a loop out of iterations)
                 ("gil_ensure", ctypes.c_void_p), ("err_set", ctypes.c_void_p), ("gil_release", ctypes.c_void_p),
-                ("runtime_error", ctypes.c_void_p)]
+                ("runtime_error", ctypes.c_void_p),
+                ("move", ctypes.c_void_p)]  # reactor_move: a kernel's elements in and out of its vector body
 
 
 class LoopConfig(ctypes.Structure):
@@ -157,11 +158,12 @@ def _runtime_addresses() -> None:
     if _settings.parallel_for is None:
         _settings.parallel_for = runtime().address("reactor_parallel_for")
         _settings.prepare = runtime().address("reactor_prepare")
+        _settings.move = runtime().address("reactor_move")
 
 
 # -- the native runtime ------------------------------------------------------------------------
 
-RUNTIME_EXPORTS = ("reactor_parallel_for", "reactor_prepare", "reactor_raise")
+RUNTIME_EXPORTS = ("reactor_parallel_for", "reactor_prepare", "reactor_raise", "reactor_move")
 
 
 @functools.cache
@@ -175,6 +177,7 @@ def runtime(target: str = "host") -> CompiledCode:
     _emit_runtime(module)
     _emit_prepare(module)
     _emit_raise(module)
+    _emit_move(module)
     return CompiledCode(module.text, build.target, build.opt, RUNTIME_EXPORTS, build.cache)
 
 
@@ -417,4 +420,138 @@ def _emit_prepare(module) -> None:
             em.goto(done)
         loop(nargs, where, "where")
         em.ret(ops.binary(em, "and", INDEX, n, ops.unary(em, "neg", INDEX, width)))
+        em.finish()
+
+
+#: i64 reactor_move(scatter, ptrs, steps, cstrides, channels, kbytes, ncols, nin, i, n, k, width, buf, slot_bytes)
+MOVE_PARAMS = [INDEX, T.BYTES_ARRAY] + [T.PointerType(INDEX)] * 4 + [INDEX] * 6 + [T.BYTES, INDEX]
+
+
+def _emit_move(module) -> None:
+    """``i64 reactor_move(scatter, ptrs, steps, cstrides, channels, kbytes, ncols, nin, i, n, k, width, buf,
+    slot_bytes)``: how a kernel's one vector body serves the elements its vector loop cannot read in
+    place (the tail of fewer than ``width`` elements, strided operands, accumulations).
+
+    ``scatter`` 0 (gather): copies elements ``i ..`` of each input column ``c < nin`` into
+    ``buf + c * slot_bytes``, lane after lane, channels interleaved as in memory, a column's element
+    ``e`` at ``ptrs[c] + e * steps[c] + channel * cstrides[c]`` (``kbytes[c]`` bytes a channel); lanes
+    past the last element repeat it (so Any/All over the vector see only real elements). It returns how
+    many elements the vector holds: ``min(width, n - i)``, or 1 where an output's remaining elements
+    overlap an input's other than in place (``ufunc.accumulate`` reads ``out[i-1]`` as input ``i``, and
+    ``reduce`` reads and writes one element, step 0: such elements must be computed one after the other). ``scatter`` 1 copies the first ``k`` lanes of each
+    output column ``c >= nin`` back to memory and returns ``k``."""
+    idx = lambda v: T.const(INDEX, v)  # noqa: E731
+    bool1 = VType(KINDS["Bool"], 1)
+    names = ["scatter", "ptrs", "steps", "cstrides", "channels", "kbytes", "ncols", "nin", "i", "n", "k", "width",
+             "buf", "slot_bytes"]
+    em = _em.FunctionEmitter(module, "reactor_move", INDEX, MOVE_PARAMS, names, width=1)
+
+    def add(a, b):
+        return ops.binary(em, "add", INDEX, a, b)
+
+    def mul(a, b):
+        return ops.binary(em, "mul", INDEX, a, b)
+
+    def loop(start, count, body, name):
+        """``for j in range(start, count): body(j)``."""
+        slot = em.alloca(INDEX, f"{name}.j")
+        em.store(start, slot)
+        head, each, done = em.new_block(f"{name}.cond"), em.new_block(f"{name}.each"), em.new_block(f"{name}.done")
+        em.branch(head)
+        em.goto(head)
+        j = em.load(slot, name="j")
+        em.cbranch(ops.compare(em, INDEX, "lt", j, count), each, done)
+        em.goto(each)
+        body(em.load(slot, name="j"))
+        em.store(add(em.load(slot, name="j"), idx(1)), slot)
+        em.branch(head)
+        em.goto(done)
+
+    def column(c, name):
+        return [em.load(em.address(p, c), name=f"{name}.{what}") for p, what in
+                ((ptrs, "ptr"), (steps, "step"), (cstrides, "cstride"), (channels, "channels"), (kbytes, "kbytes"))]
+
+    def copy(dst, src, size):
+        """``size`` (1, 2, 4 or 8) bytes from ``src`` to ``dst``, as one load and store."""
+        blocks = {b: em.new_block(f"copy{b}") for b in (1, 2, 4, 8)}
+        done = em.new_block("copied")
+        for bytes_, block in blocks.items():
+            nxt = em.new_block(f"not{bytes_}") if bytes_ != 8 else None
+            em.cbranch(ops.compare(em, INDEX, "eq", size, idx(bytes_)), block, nxt or done)
+            em.goto(block)
+            t = VType(KINDS["UByte"] if bytes_ == 1 else KINDS["UShort"] if bytes_ == 2 else
+                      KINDS["Int"] if bytes_ == 4 else T.INDEX_KIND, 1)
+            value = em.load(em.cast_pointer(src, t.mem_ir), align=1, name="v")
+            em.store(value, em.cast_pointer(dst, t.mem_ir), align=1)
+            em.branch(done)
+            if nxt is not None:
+                em.goto(nxt)
+        em.goto(done)
+
+    with em:
+        scatter, ptrs, steps, cstrides, channels, kbytes, ncols, nin, i, n, k_in, width, buf, slot_bytes = em.params
+        gather_b, scatter_b = em.new_block("gather"), em.new_block("scatter")
+        em.cbranch(ops.compare(em, INDEX, "eq", scatter, idx(0)), gather_b, scatter_b)
+
+        def extent(c):
+            """[lo, hi) of the bytes column ``c`` occupies from element ``i`` to ``n - 1``."""
+            ptr, step, cstride, chans, kb = column(c, "x")
+            first = add(em.convert("ptrtoint", ptr, INDEX, name="base"), mul(i, step))
+            span = mul(ops.binary(em, "sub", INDEX, ops.binary(em, "sub", INDEX, n, i), idx(1)), step)
+            inner = mul(ops.binary(em, "sub", INDEX, chans, idx(1)), cstride)
+            lo = add(add(first, ops.binary(em, "min", INDEX, span, idx(0))), ops.binary(em, "min", INDEX, inner, idx(0)))
+            hi = add(add(add(first, ops.binary(em, "max", INDEX, span, idx(0))),
+                         ops.binary(em, "max", INDEX, inner, idx(0))), kb)
+            return first, step, lo, hi
+
+        em.goto(gather_b)
+        left = ops.binary(em, "sub", INDEX, n, i)
+        k_slot = em.alloca(INDEX, "k")
+        em.store(ops.binary(em, "min", INDEX, width, left), k_slot)
+
+        def against_inputs(a):
+            fa, sa, lo_a, hi_a = extent(a)
+
+            def against_outputs(b):
+                fb, sb, lo_b, hi_b = extent(b)
+                same = ops.binary(em, "and", bool1, ops.compare(em, INDEX, "eq", fa, fb),  # in place, moving
+                                  ops.binary(em, "and", bool1, ops.compare(em, INDEX, "eq", sa, sb),
+                                             ops.compare(em, INDEX, "ne", sa, idx(0))))
+                meet = ops.binary(em, "and", bool1, ops.compare(em, INDEX, "lt", lo_b, hi_a),
+                                  ops.compare(em, INDEX, "lt", lo_a, hi_b))
+                overlap = ops.binary(em, "and", bool1, meet, ops.unary(em, "invert", bool1, same))
+                em.store(em.select(overlap, idx(1), em.load(k_slot, name="k"), name="k"), k_slot)
+            loop(nin, ncols, against_outputs, "outs")
+        loop(idx(0), nin, against_inputs, "ins")
+        k = em.load(k_slot, name="k")
+        last = ops.binary(em, "sub", INDEX, k, idx(1))
+
+        def gather_column(c):
+            ptr, step, cstride, chans, kb = column(c, "in")
+            base = em.address(buf, mul(c, slot_bytes), name="slot")
+
+            def lane(j):
+                e = add(i, ops.binary(em, "min", INDEX, j, last))
+                src = em.address(ptr, mul(e, step), name="src")
+                dst = em.address(base, mul(mul(j, chans), kb), name="dst")
+                loop(idx(0), chans, lambda ch: copy(em.address(dst, mul(ch, kb)), em.address(src, mul(ch, cstride)),
+                                                   kb), "ch")
+            loop(idx(0), width, lane, "lane")
+        loop(idx(0), nin, gather_column, "gather")
+        em.ret(em.load(k_slot, name="k"))
+
+        em.goto(scatter_b)
+
+        def scatter_column(c):
+            ptr, step, cstride, chans, kb = column(c, "out")
+            base = em.address(buf, mul(c, slot_bytes), name="slot")
+
+            def lane(j):
+                dst = em.address(ptr, mul(add(i, j), step), name="dst")
+                src = em.address(base, mul(mul(j, chans), kb), name="src")
+                loop(idx(0), chans, lambda ch: copy(em.address(dst, mul(ch, cstride)), em.address(src, mul(ch, kb)),
+                                                   kb), "ch")
+            loop(idx(0), k_in, lane, "lane")
+        loop(nin, ncols, scatter_column, "scatter")
+        em.ret(k_in)
         em.finish()

@@ -574,7 +574,9 @@ def iteration(fn, start: str = "vec.body") -> tuple[list, list[str]]:
     blocks = {b.name: b for b in fn.blocks}
     if start not in blocks:
         raise ValueError(f"{fn.name} has no vector loop (block {start})")
-    succ = {name: _successors(b) for name, b in blocks.items()}
+    # the elements the vector loop cannot read in place go round through reactor_move (blocks
+    # ``tail.*``) and back into the body: not part of a vector iteration
+    succ = {name: [n for n in _successors(b) if not n.startswith("tail.")] for name, b in blocks.items()}
 
     def back_to_start(avoid: str | None) -> bool:
         seen, todo = set(), [n for n in succ[start] if n != avoid]

@@ -126,16 +126,22 @@ def _example(folder, name):
 @needs_emulator
 @pytest.mark.parametrize("name", ["gltf_pbr", "noise", "raymarch", "sky", "tonemap"])
 def test_the_example_shaders_give_x86_bits_on_aarch64(name):
-    """The ported public shaders (examples/shaders) on AArch64 under qemu: every output bit as here."""
+    """The ported public shaders (examples/shaders) on AArch64 under qemu: every output bit as here,
+    contiguous and strided. A NaN lane must be NaN there too, but may be another NaN: these inputs
+    (uniform in [-2, 2], far outside what the shaders expect) make NaNs that meet other NaNs in the
+    shaders' own arithmetic, where the hardware chooses which comes out (docs/dsl.md)."""
     module = _example("shaders", name)
     for precision in ("full", "relaxed"):
         here, there = module.build(precision), module.build(precision, target="aarch64")
         rng = np.random.default_rng(3)
         args = [rng.uniform(-2, 2, 3001).astype(np.float32) for _ in reactor.kernel_of(here).ins]
-        want, got = here(*args), reactor.run_emulated(there, *args)
-        want, got = (want, got) if isinstance(want, tuple) else ((want,), (got,))
-        for w, g in zip(want, got):
-            assert np.array_equal(_bits(w), _bits(g)), (name, precision)
+        for layout in (slice(None), slice(None, None, 2)):
+            want, got = here(*[a[layout] for a in args]), reactor.run_emulated(there, *[a[layout] for a in args])
+            want, got = (want, got) if isinstance(want, tuple) else ((want,), (got,))
+            for w, g in zip(want, got):
+                nan = np.isnan(w)
+                assert np.array_equal(nan, np.isnan(g)), (name, precision)
+                assert np.array_equal(_bits(w)[~nan], _bits(g)[~nan]), (name, precision)
 
 
 @pytest.mark.parametrize("name, body", [("sphere", "render"), ("sphere", "normal_map"), ("lut", "lut_rgba8"),
