@@ -68,14 +68,14 @@ def reduce_down(x):
     """``ReduceDown(x)`` as exp2 reads it: one VREDUCEPS with AVX-512DQ. Elsewhere the same
     value for finite x except the sign of a zero (exp2 adds f * P(f) to x, where ±0 give the
     same y), and NaN for ±inf (y is then NaN: +inf saturates to +inf, -inf is one of
-    fix_specials' lanes): 7 operations instead of ReduceDown's 12."""
+    fix_specials' lanes): 5 operations instead of ReduceDown's 12."""
     if "avx512dq" in target_features():
         return ReduceDown(x)
     Int_, Float_ = vector_type("Int", x.width), vector_type("Float", x.width)
     fl = Floor(x)
     s = x - fl                                           # exact, except for -0.5 < x < 0 (rounded to nearest)
-    below = As(Float_, As(Int_, s) - 1)                  # where it rounded up: the float below (s > 0 there)
-    return Select(x < s + fl, below, s)
+    # where it rounded up, the float below (s > 0 there): the compare's all-ones lanes added as -1
+    return As(Float_, As(Int_, s) + Select(x < s + fl, Int_(-1), Int_(0)))
 
 
 @routine
