@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+import weakref
 import typing
 
 from ..errors import DSLTypeError
@@ -98,6 +99,36 @@ def resolve(spec, width: int, what: str):
     raise DSLTypeError(f"{what}: {spec!r} is not a DSL type (use Float, Int4, SIMD.Float, Pointer[Float] ...)")
 
 
+_HINTS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _names_and_hints(body):
+    """A function's parameter names and evaluated annotations, remembered while its code and its
+    annotations stay the same (string annotations are evaluated once, not at every kernel call)."""
+    raw = getattr(body, "__annotations__", None)
+    try:
+        key = (getattr(body, "__code__", None), tuple(raw.items()) if isinstance(raw, dict) else None)
+        hash(key)
+        known = _HINTS.get(body)
+    except TypeError:  # an unhashable annotation, or a callable that takes no weak reference
+        key, known = None, None
+    if known is not None and known[0] == key:
+        return known[1], known[2]
+    names = tuple(inspect.signature(body).parameters)
+    try:
+        hints = inspect.get_annotations(body, eval_str=True)
+    except NameError as exc:  # e.g. a local type under `from __future__ import annotations`
+        raise DSLTypeError(f"'{body.__name__}': cannot evaluate its type annotations ({exc}); "
+                           f"string annotations can only name module-level types, so give "
+                           f"args=[...]/returns=... explicitly") from None
+    if key is not None:
+        try:
+            _HINTS[body] = (key, names, hints)
+        except TypeError:
+            pass
+    return names, hints
+
+
 @dataclasses.dataclass(frozen=True)
 class Signature:
     """Parameter names, parameter type specs and the return type spec (None: void)."""
@@ -108,14 +139,7 @@ class Signature:
 
     @classmethod
     def from_function(cls, body, args=None, returns=inspect.Parameter.empty) -> "Signature":
-        sig = inspect.signature(body)
-        names = tuple(sig.parameters)
-        try:
-            hints = inspect.get_annotations(body, eval_str=True)
-        except NameError as exc:  # e.g. a local type under `from __future__ import annotations`
-            raise DSLTypeError(f"'{body.__name__}': cannot evaluate its type annotations ({exc}); "
-                               f"string annotations can only name module-level types, so give "
-                               f"args=[...]/returns=... explicitly") from None
+        names, hints = _names_and_hints(body)
         if args is None:
             missing = [n for n in names if n not in hints]
             if missing:
