@@ -1,5 +1,5 @@
 """Speed per target: the routines at each x86 level against NumPy and libmvec at the same level,
-and the instructions of each variant's vector loop on every target, AArch64 included.
+and the operations of each variant's vector loop iteration on every target, AArch64 included.
 
 For each x86 level this CPU runs (sse4, avx2, avx512), a child process times, at 64K float32
 (one thread, median of interleaved repetitions):
@@ -90,26 +90,21 @@ def child(level: str, reps: int) -> dict:
     return {"level": level, "numpy_disabled": LEVELS[level][0], "rows": rows}
 
 
-def _loop_instructions(assembly: str, arch: str) -> int:
-    """Instructions of the vector loop: the backward-branching region (label to branch) with the
-    most packed float instructions."""
-    lines = [ln.strip() for ln in assembly.splitlines()]
-    labels = {ln[:-1]: i for i, ln in enumerate(lines) if re.match(r"^\.LBB\d+_\d+:$", ln)}
-    best = (0, 0)
-    packed = re.compile(r"\.4s|\.2d|%[xyz]mm|ps\s|pd\s" if arch == "aarch64" else r"ps\s|pd\s|%[yz]mm")
-    for j, ln in enumerate(lines):
-        m = re.match(r"^(b\.\w+|j\w+|b)\s+(\.LBB\d+_\d+)$", ln)
-        if m and labels.get(m.group(2), j + 1) < j:
-            body = [x for x in lines[labels[m.group(2)] + 1:j + 1]
-                    if x and not x.startswith((".", "#", "//")) and not x.endswith(":")]
-            vec = sum(1 for x in body if packed.search(x + " "))
-            if vec > best[0]:
-                best = (vec, len(body))
-    return best[1]
+def _iteration_operations(kern) -> int:
+    """Operations one iteration of the kernel's vector loop always runs, in the target's optimized
+    IR (the dataflow model's ``iteration``: cold blocks such as log2's general path without
+    AVX-512 left out; phis, branches and bit casts, which emit no instruction, not counted)."""
+    import llvmlite.binding as llvm
+
+    from routines.perf import model
+
+    fn = llvm.parse_assembly(kern.optimized_ir).get_function(f"{kern.name}.loop")
+    body, _ = model.iteration(fn)
+    return sum(1 for instr in body if model.classify(instr) is not None)
 
 
 def instruction_counts() -> list[dict]:
-    """Vector-loop instructions per variant and target (FMA as each target has it)."""
+    """Operations per vector iteration per variant and target (FMA as each target has it)."""
     import reactor
     import routines
 
@@ -120,8 +115,8 @@ def instruction_counts() -> list[dict]:
             row = {"function": name, "precision": precision}
             for target in targets:
                 k = reactor.kernel_of(routines.jit(name, precision=precision, target=target))
-                n = _loop_instructions(k.assembly, reactor.get_target(target).arch)
-                row[target] = {"instructions": n, "lanes": k.build.width, "per_element": round(n / k.build.width, 2)}
+                n = _iteration_operations(k)
+                row[target] = {"operations": n, "lanes": k.build.width, "per_element": round(n / k.build.width, 2)}
             rows.append(row)
     return rows
 
@@ -158,9 +153,9 @@ def main(argv=None) -> int:
             print(f"{r['level']:7s} {r['function']:5s} {r['precision']:8s} {r['ns']:8.3f} {r['numpy_ns']:7.3f} "
                   f"{mv} {r['vs_numpy']:8.2f}x {vm}  {'PASS' if ok else 'MISS'}")
     counts = instruction_counts()
-    print("\nvector-loop instructions (per element): " + ", ".join(("sse4", "avx2", "avx512", "aarch64")))
+    print("\noperations per vector iteration (per element): " + ", ".join(("sse4", "avx2", "avx512", "aarch64")))
     for row in counts:
-        cells = "  ".join(f"{t} {row[t]['instructions']} ({row[t]['per_element']})"
+        cells = "  ".join(f"{t} {row[t]['operations']} ({row[t]['per_element']})"
                           for t in ("sse4", "avx2", "avx512", "aarch64"))
         print(f"{row['function']:5s} {row['precision']:8s} {cells}")
     print(f"\n{misses} of {sum(len(r['rows']) for r in results if r['level'] in ('sse4', 'avx2'))} "
