@@ -1,9 +1,10 @@
-"""A kernel's code: its body, traced once per width, and the loop NumPy calls.
+"""A kernel's code: its body, traced once or twice, and the loop NumPy calls.
 
-The user's body is traced twice: at the build's width W into an internal
-function ``<name>.body(x0, x1, ...) -> result(s)`` and at width 1 into
-``<name>.body1`` (the same code on scalars: every lane of the vector body
-computes what the scalar body computes, bit for bit).
+The user's body is traced at the build's width W into an internal function
+``<name>.body(x0, x1, ...) -> result(s)``. A small body (fewer than
+``kernel.ONE_BODY_MIN`` IR instructions) or one with uniform operands is traced
+again at width 1 into ``<name>.body1`` (the same code on scalars: every lane of
+the vector body computes what the scalar body computes, bit for bit).
 
 ``void <name>.loop(char **args, npy_intp *dims, npy_intp *steps, void *data)``
 is NumPy's ufunc loop signature. For ``n = dims[0]`` elements it runs:
@@ -14,13 +15,17 @@ is NumPy's ufunc loop signature. For ``n = dims[0]`` elements it runs:
   once, so one loop serves every mix of the two, as in ``pow(x, 2.2)``), and
   no output starts inside an input ahead of it (``ufunc.accumulate`` passes
   ``out[i-1]`` as input ``i``);
-* then the **scalar loop** for whatever is left: the last ``n % W`` elements
-  of the vector loop, or every element when an operand is strided or the
-  operands overlap, one element at a time in order (so accumulations see each
-  result before the next element reads it), at any strides.
+* then whatever is left (the last ``n % W`` elements, or every element when an
+  operand is strided or the operands overlap): with ``body1``, the **scalar
+  loop**, one element at a time in order, at any strides; without it, **chunks**
+  through the same inlined vector body, their elements copied into W-lane
+  buffers and back by the runtime's ``reactor_move`` (W at a time, lanes past
+  the last element repeating it, or one at a time where an output overlaps an
+  input other than in place, so accumulations see each result before the next
+  element reads it).
 
-So the body is compiled twice (once per width) however many inputs and
-layouts the kernel has; every element of the vector loop holds real data.
+So a large body is compiled once, a small one twice, however many inputs and
+layouts the kernel has.
 
 Floating-point exception flags are saved on entry and restored on exit: the
 routines' special-value paths compute on values whose flags mean nothing,
