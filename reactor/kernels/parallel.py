@@ -324,6 +324,21 @@ def _emit_runtime(module) -> None:
         em.finish()
 
 
+def counted_loop(em, start, stop, body, name: str) -> None:
+    """Emit ``for j in range(start, stop): body(j)`` (i64 values) in the runtime's functions."""
+    slot = em.alloca(INDEX, f"{name}.j")
+    em.store(start, slot)
+    head, each, done = em.new_block(f"{name}.cond"), em.new_block(f"{name}.each"), em.new_block(f"{name}.done")
+    em.branch(head)
+    em.goto(head)
+    em.cbranch(ops.compare(em, INDEX, "lt", em.load(slot, name="j"), stop), each, done)
+    em.goto(each)
+    body(em.load(slot, name="j"))
+    em.store(ops.binary(em, "add", INDEX, em.load(slot, name="j"), T.const(INDEX, 1)), slot)
+    em.branch(head)
+    em.goto(done)
+
+
 def _emit_prepare(module) -> None:
     """``i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes)``: whether
     a kernel's vector loop may run on this call's layout and from where. It may when every output is
@@ -342,18 +357,7 @@ def _emit_prepare(module) -> None:
 
     def loop(count, body, name):
         """``for k in range(count): body(k)`` (``count`` an i64 value)."""
-        slot = em.alloca(INDEX, f"{name}.k")
-        em.store(idx(0), slot)
-        head, each, done = em.new_block(f"{name}.cond"), em.new_block(f"{name}.each"), em.new_block(f"{name}.done")
-        em.branch(head)
-        em.goto(head)
-        k = em.load(slot, name="k")
-        em.cbranch(ops.compare(em, INDEX, "lt", k, count), each, done)
-        em.goto(each)
-        body(k)
-        em.store(ops.binary(em, "add", INDEX, em.load(slot, name="k"), idx(1)), slot)
-        em.branch(head)
-        em.goto(done)
+        counted_loop(em, idx(0), count, body, name)
 
     with em:
         args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes = em.params
@@ -454,18 +458,7 @@ def _emit_move(module) -> None:
 
     def loop(start, count, body, name):
         """``for j in range(start, count): body(j)``."""
-        slot = em.alloca(INDEX, f"{name}.j")
-        em.store(start, slot)
-        head, each, done = em.new_block(f"{name}.cond"), em.new_block(f"{name}.each"), em.new_block(f"{name}.done")
-        em.branch(head)
-        em.goto(head)
-        j = em.load(slot, name="j")
-        em.cbranch(ops.compare(em, INDEX, "lt", j, count), each, done)
-        em.goto(each)
-        body(em.load(slot, name="j"))
-        em.store(add(em.load(slot, name="j"), idx(1)), slot)
-        em.branch(head)
-        em.goto(done)
+        counted_loop(em, start, count, body, name)
 
     def column(c, name):
         return [em.load(em.address(p, c), name=f"{name}.{what}") for p, what in
