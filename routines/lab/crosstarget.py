@@ -30,16 +30,19 @@ from .fingerprint import pow_inputs, unary_inputs
 from .reference import BINARY
 
 EMULATED = ("aarch64",)
-#: The routines whose output may differ between targets by documented design: hardware estimates
-#: (RCP14/RSQRT14, used on AVX-512 targets only; see routines/reciprocal.py).
-ESTIMATES = ("rcp", "rsqrt", "sqrt")
+def uses_estimate(name: str, precision: str, fma: bool, target: str) -> bool:
+    """Whether the variant's kernel for ``target`` uses a hardware estimate (RCP14/RSQRT14: on
+    AVX-512 targets, in rcp, rsqrt, relaxed sqrt and the routines built on them; see
+    routines/reciprocal.py), whose bits differ from the exact operations used elsewhere by design."""
+    import reactor
+    ir = reactor.kernel_of(_ufunc(name, precision, fma, target)).ir
+    return "rcp14" in ir or "rsqrt14" in ir
 
 
 def by_estimate(row: dict) -> bool:
     """Whether a difference in this row is the documented one: an estimate on one side only."""
-    import reactor
-    sides = {"avx512f" in reactor.get_target(t).feature_set for t in (row["target"], row["reference"])}
-    return row["function"] in ESTIMATES and len(sides) == 2
+    sides = [uses_estimate(row["function"], row["precision"], row["fma"], t) for t in (row["target"], row["reference"])]
+    return sides[0] != sides[1]
 
 
 def _fma_option(fma: bool, target: str):
@@ -190,6 +193,12 @@ def main(argv=None) -> int:
             targets.append("aarch64")
     if args.exhaustive and any(not reactor.get_target(t).runnable for t in targets):
         parser.error("--exhaustive runs only targets this CPU can run")
+    for t in targets + [args.reference]:
+        if not reactor.get_target(t).runnable and (t not in EMULATED or t == args.reference):
+            parser.error(f"target {t!r} cannot run on this CPU ({reactor.get_target(t).missing()})"
+                         + ("" if t == args.reference else " and has no emulator here"))
+        if t in EMULATED and reactor.emulator_missing() is not None:
+            parser.error(f"running {t} code needs {reactor.emulator_missing()}")
     progress = None if args.quiet else lambda row: print(_line(row), flush=True)
     start = time.perf_counter()
     if args.exhaustive:
