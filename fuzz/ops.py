@@ -56,12 +56,12 @@ def _sign_bit(x):
     return np.signbit(x)
 
 
-def _is_snan(x):
-    if x.dtype == np.float32:
-        bits = np.ascontiguousarray(x).view(np.uint32)
-        return np.isnan(x) & ((bits & 0x00400000) == 0)
-    bits = np.ascontiguousarray(x).view(np.uint64)
-    return np.isnan(x) & ((bits & np.uint64(0x0008000000000000)) == 0)
+def is_snan(x):
+    """Lanes of a float array holding a signalling NaN (quiet bit clear), any float size."""
+    x = np.ascontiguousarray(x)
+    ints = {2: np.uint16, 4: np.uint32, 8: np.uint64}[x.dtype.itemsize]
+    quiet = ints({2: 0x0200, 4: 0x00400000, 8: 0x0008000000000000}[x.dtype.itemsize])
+    return np.isnan(x) & ((x.view(ints) & quiet) == 0)
 
 
 def _div_ev(rem: bool):
@@ -111,7 +111,7 @@ def _minmaxnum(is_min: bool):
         a, b = args
         r = (np.fmin if is_min else np.fmax)(a, b)
         # minnum(+0, -0) may return either zero; a signalling NaN operand may give a quiet NaN
-        taint = ((a == 0) & (b == 0) & (_sign_bit(a) != _sign_bit(b))) | _is_snan(a) | _is_snan(b)
+        taint = ((a == 0) & (b == 0) & (_sign_bit(a) != _sign_bit(b))) | is_snan(a) | is_snan(b)
         return r, taint
     return ev
 

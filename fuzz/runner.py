@@ -25,6 +25,7 @@ import reactor
 from . import ast as A
 from .emit import function_of, kernel_of_program
 from .evaluate import EvaluatorError, evaluate
+from .ops import is_snan
 from .generate import DOUBLE_CONSTS, FLOAT_CONSTS, INT_CONSTS, RUNNABLE_FORCED, UINT_CONSTS, RandomChooser, generate
 
 WIDTHS = reactor.WIDTHS
@@ -245,12 +246,6 @@ def same_bits(got: np.ndarray, want: np.ndarray, taint: np.ndarray, arch: str) -
     return np.flatnonzero(~same & ~taint)
 
 
-def _signalling(x: np.ndarray) -> np.ndarray:
-    quiet = {2: 0x0200, 4: 0x00400000, 8: 0x0008000000000000}[x.dtype.itemsize]
-    ints = {2: np.uint16, 4: np.uint32, 8: np.uint64}[x.dtype.itemsize]
-    return np.isnan(x) & ((np.ascontiguousarray(x).view(ints) & ints(quiet)) == 0)
-
-
 def _run_cross_targets(program, inputs, res, name):
     """The program's kernel on every other target must give its bits on its own target (width 4,
     which every target has), every output, NaN signs and payloads included, except in lanes where
@@ -274,7 +269,7 @@ def _run_cross_targets(program, inputs, res, name):
         if arch != "x86_64":
             for x in inputs:
                 if x.dtype.kind == "f":
-                    signalling |= _signalling(x)
+                    signalling |= is_snan(x)
         for j, (g, w) in enumerate(zip(got, ref)):
             bad = same_bits(g, w, taint[j] | signalling, arch)
             res.lanes += int(np.size(g))
