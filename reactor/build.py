@@ -27,10 +27,14 @@ class Precision(str, enum.Enum):
     """How accurate the math built-ins are (Vulkan's names in brackets).
 
     ``RELAXED``: Vulkan's RelaxedPrecision (mediump) tolerances; ``FULL``: Vulkan's
-    full precision (highp) tolerances."""
+    full precision (highp) tolerances. Beyond Vulkan (the routines that have them, e.g.
+    exp2, log2, pow; others refuse): ``FAITHFUL``, below 1 ULP for every input, and
+    ``CORRECT``, correctly rounded for every input; both follow C99 Annex F at special values."""
 
     RELAXED = "relaxed"
     FULL = "full"
+    FAITHFUL = "faithful"
+    CORRECT = "correct"
 
     @classmethod
     def of(cls, value) -> "Precision":
@@ -47,6 +51,9 @@ class Precision(str, enum.Enum):
     def __str__(self) -> str:
         return self.value
 
+
+#: The tiers every math built-in has (Vulkan's), least accurate first: what a shader plans among.
+SHADER_TIERS = (Precision.RELAXED.value, Precision.FULL.value)
 
 _GLSL_QUALIFIERS = {"highp": "full", "mediump": "relaxed", "lowp": "relaxed"}
 

@@ -9,7 +9,8 @@ docs (write docs/routines/*.md from the measurements), search (the variant
 search: the Pareto set of cost vs error), fingerprint (a hash of every
 variant's output bits, to prove a change left them alone), crosstarget (every
 variant's output bits on each target, aarch64 under qemu, against the host's), dump (the IR or
-assembly of a routine's kernel), pixels (prove the sRGB8 encode exact, time it). ``python -m routines COMMAND --help`` tells more.
+assembly of a routine's kernel), pixels (prove the sRGB8 encode exact, time it), ladder (the
+faithful and correct tiers against a correctly rounded reference, every input with --exhaustive). ``python -m routines COMMAND --help`` tells more.
 
 Exit status: 0 done, 1 a finding (a variant does not conform, fingerprints
 differ), 2 a usage error, 130 interrupted.
@@ -32,6 +33,7 @@ COMMANDS = {
     "crosstarget": "routines.lab.crosstarget",
     "dump": "routines.cli.dump",
     "pixels": "routines.cli.pixels",
+    "ladder": "routines.cli.ladder",
 }
 USAGE = "usage: python -m routines {" + ",".join(COMMANDS) + "} [options]"
 EXAMPLES = """examples:

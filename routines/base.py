@@ -16,11 +16,26 @@ import typing
 
 import reactor
 from reactor import As, DSLTypeError, Float, Precision, Value, fma_mode
+from reactor.build import SHADER_TIERS
 
 reactor.hide_frames_of(os.path.dirname(__file__))  # errors point at the caller's line
 
-#: The precisions the routines are built in (reactor's Precision values).
-PRECISIONS = tuple(p.value for p in Precision)
+#: The precisions every routine is built in: Vulkan's (reactor's shader tiers).
+PRECISIONS = SHADER_TIERS
+
+#: Every tier, least accurate first, and the routines that have the tiers beyond Vulkan's
+#: (``routines.accurate``; sqrt and rcp are correctly rounded by the hardware).
+LADDER = tuple(p.value for p in Precision)
+BEYOND_VULKAN = {
+    "exp2": ("faithful", "correct"), "exp": ("faithful", "correct"), "log2": ("faithful", "correct"),
+    "log": ("faithful", "correct"), "pow": ("faithful",), "rcp": ("faithful", "correct"),
+    "rsqrt": ("faithful", "correct"), "sqrt": ("faithful", "correct"),
+}
+
+
+def tiers(routine_name: str) -> tuple[str, ...]:
+    """The precisions ``routine_name`` can be built in, least accurate first."""
+    return PRECISIONS + BEYOND_VULKAN.get(routine_name, ())
 
 
 def float_value(x, routine: str, arg: str = "x") -> Value:
@@ -42,8 +57,16 @@ def check_precision(precision, routine: str) -> Precision:
     try:
         return Precision.of(precision)
     except reactor.ReactorError:
-        names = " or ".join(repr(p) for p in PRECISIONS)
-        raise reactor.ReactorError(f"{routine}: precision must be {names}, not {precision!r}") from None
+        names = ", ".join(repr(p) for p in tiers(routine))
+        raise reactor.ReactorError(f"{routine}: precision must be one of {names}, not {precision!r}") from None
+
+
+def check_tier(level: Precision, routine: str) -> Precision:
+    """``level`` if ``routine`` has that tier; a clear error naming the tiers it has otherwise."""
+    if level.value not in tiers(routine):
+        names = ", ".join(repr(p) for p in tiers(routine))
+        raise reactor.ReactorError(f"{routine} has no {level.value!r} precision; its precisions are {names}")
+    return level
 
 
 def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
@@ -54,7 +77,7 @@ def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
         chosen = reactor.site_choice(fn.__name__)  # a plan's choice for this call site wins
         if chosen is not None:
             precision, fma = chosen.precision, chosen.fma if chosen.fma is not None else fma
-        level = check_precision(precision, fn.__name__)
+        level = check_tier(check_precision(precision, fn.__name__), fn.__name__)
         with fma_mode(fma), reactor.precision(level), reactor.routine_call(fn.__name__):
             return fn(*args, precision=level, **kwargs)
 

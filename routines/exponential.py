@@ -30,6 +30,7 @@ from reactor import (
     As, Floor, Max, Min, MulAdd, Precision, ReduceDown, Select, ToInt, fma_mode, target_features, vector_type,
 )
 
+from . import accurate
 from .base import float_value, routine
 from .polynomials import EXP2_FULL, EXP2_RELAXED
 
@@ -82,6 +83,8 @@ def reduce_down(x):
 def exp2(x, precision: Precision = Precision.FULL):
     """2^x for Float values of any width; see the module docstring."""
     x = float_value(x, "exp2")
+    if precision in (Precision.FAITHFUL, Precision.CORRECT):
+        return accurate.exp2(x, precision).named("exp2")
     f = reduce_down(x)
     if precision is Precision.FULL:
         y = MulAdd(EXP2_FULL(f), f, x)
@@ -98,4 +101,6 @@ def exp(x, precision: Precision = Precision.FULL):
     ~2^-17 absolute for |x| <= 88) costs at most ~45 ULP near overflow, well
     inside Vulkan's 3 + 2|x| ULP for exp."""
     x = float_value(x, "exp")
+    if precision in (Precision.FAITHFUL, Precision.CORRECT):
+        return accurate.exp(x, precision).named("exp")
     return exp2(x * LOG2_E, precision=precision).named("exp")

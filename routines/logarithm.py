@@ -32,6 +32,7 @@ from reactor import (
     vector_type,
 )
 
+from . import accurate
 from .base import float_value, routine
 from .polynomials import LOG2_FULL, LOG2_RELAXED
 
@@ -55,6 +56,8 @@ def _general(x, precision):
 def log2(x, precision: Precision = Precision.FULL):
     """log2(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "log2")
+    if precision in (Precision.FAITHFUL, Precision.CORRECT):
+        return accurate.log2(x, precision).named("log2")
     if "avx512f" in target_features():  # VGETEXPPS/VGETMANTPS: one instruction each, specials included
         return _general(x, precision).named("log2")
     # Elsewhere the portable Exponent/Significand handle subnormals, zeros, infinities and NaNs in
@@ -77,4 +80,6 @@ def log(x, precision: Precision = Precision.FULL):
     """ln(x) = log2(x) * ln(2): one extra rounding (0.5 ULP) and the float32
     ln(2)'s relative error (2^-25.5) on top of log2's error."""
     x = float_value(x, "log")
+    if precision in (Precision.FAITHFUL, Precision.CORRECT):
+        return accurate.log(x, precision).named("log")
     return (log2(x, precision=precision) * LN_2).named("log")

@@ -239,3 +239,69 @@ TRIG = (SIN_FULL, SIN_RELAXED, COS_FULL, COS_RELAXED, ATAN_FULL, ATAN_RELAXED, A
         SINH_FULL, SINH_RELAXED, TANH_FULL, TANH_RELAXED, EXP_FULL, EXP_RELAXED)
 
 ALL = (EXP2_FULL, EXP2_RELAXED, LOG2_FULL, LOG2_RELAXED, LOG2_RELAXED_REFERENCE) + TRIG
+
+
+# -- double lanes: the faithful and correct tiers (routines/accurate.py) ---------------------
+#
+# Evaluated in float64 lanes, so the coefficients are kept as the fitter's exact digits (30
+# significant, ``coefficients_exact`` of ``--json``) and rounded once to binary64. The error
+# below is the fitter's levelled relative error; tests/routines/test_accurate.py reruns each
+# fit and measures the binary64-rounded polynomial against mpmath.
+
+
+@dataclasses.dataclass(frozen=True)
+class DoublePolynomial(Polynomial):
+    """A binary64 polynomial (coefficients highest degree first, rounded once to binary64)."""
+
+    @property
+    def values(self) -> tuple[float, ...]:
+        return tuple(float(c) for c in self.coefficients)
+
+    def remez_command(self) -> str:
+        return super().remez_command() + " --json --dps 60"
+
+
+_LOG2_Q = "log((1+sqrt(x))/(1-sqrt(x)))/(sqrt(x)*log(2))"
+
+EXP2_FAITHFUL = DoublePolynomial(
+    name="exp2.faithful", function="2^x", weight="2^x", interval=("-0.5", "0.5"),
+    coefficients=("0.00015345812002903347502792957286", "0.00133999312193408904131367435338",
+                  "0.00961848895711507093541686419872", "0.0555032877696472560634700262452",
+                  "0.240226468906340877635191018759", "0.693147205737268080112932362886",
+                  "1.00000000055416646332646419172"),
+    provenance="our Remez fitter, relative error of 2^r on the reduced interval: python -m routines "
+               "remez -d 6 -r \"-0.5:0.5\" \"2^x\" \"2^x\" --json --dps 60; levelled error 1.86e-9 (2^-29.0)",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
+
+EXP2_CORRECT = DoublePolynomial(
+    name="exp2.correct", function="2^x", weight="2^x", interval=("-0.5", "0.5"),
+    coefficients=("0.00000000703727835328324043335155026386", "0.000000102085379412145277998731266877",
+                  "0.00000132156628389549575595174198809", "0.0000152526581163483326532548158426",
+                  "0.000154035299611207843893285184492", "0.00133335582285618714728845808528",
+                  "0.00961812910803460232137539332102", "0.0555041086644588307134803292799",
+                  "0.240226506959087677543085480745", "0.693147180559949775107718109087",
+                  "1.00000000000000006606474651001"),
+    provenance="our Remez fitter: python -m routines remez -d 10 -r \"-0.5:0.5\" \"2^x\" \"2^x\" --json "
+               "--dps 60; levelled error 2.11e-16 (2^-52.1), 2^-51.7 once rounded to binary64",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
+
+LOG2_FAITHFUL = DoublePolynomial(
+    name="log2.faithful", function=_LOG2_Q, weight=_LOG2_Q, interval=("1e-60", "0.04"),
+    coefficients=("0.439083157030882817526331457852", "0.576395234614523674217607315218",
+                  "0.961802200896678131773729232112", "2.88539007485738646840380892875"),
+    provenance="our Remez fitter, relative error of Q(z) = 2 atanh(s)/(s ln 2), z = s^2, s = u/(2+u) for "
+               "u = m - 1 with m in [0.75, 1.5): z in [0, 0.04]: python -m routines remez -d 3 -r "
+               f"\"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 2.40e-9 (2^-28.6)",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
+
+LOG2_CORRECT = DoublePolynomial(
+    name="log2.correct", function=_LOG2_Q, weight=_LOG2_Q, interval=("1e-60", "0.04"),
+    coefficients=("0.222010465880726045197641499663", "0.219969595110197499661163292002",
+                  "0.262376300510355862766371018989", "0.320597609589738053728202863909",
+                  "0.412198596308330419000885643029", "0.577078016289305451593149512613",
+                  "0.961796693926102296145885439838", "2.88539008177792677501195497675"),
+    provenance="our Remez fitter, as log2.faithful with degree 7: python -m routines remez -d 7 -r "
+               f"\"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 1.38e-17 (2^-56.0)",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
+
+DOUBLE = (EXP2_FAITHFUL, EXP2_CORRECT, LOG2_FAITHFUL, LOG2_CORRECT)

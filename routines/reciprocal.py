@@ -16,6 +16,11 @@ negative inputs of rsqrt) the estimate is NaN too.
 Relaxed precision uses the estimate alone: its error is at most 1/16 (AVX-512)
 or 3/8 of a binary16 ULP.
 
+The faithful and correct tiers are correctly rounded: 1/x and sqrt(x) are single IEEE
+operations, and rsqrt is 1/sqrt(x) in float64 (two roundings of relative 2^-53) rounded
+once to float32, which the accuracy ladder's exhaustive sweep finds correctly rounded for
+every input (``python -m routines ladder rsqrt --exhaustive``).
+
 sqrt: full precision is the correctly rounded hardware square root; relaxed is
 x * rsqrt_estimate(x), with ±0 and +inf (where that product is 0 * inf) passed
 through.
@@ -28,13 +33,17 @@ on other targets these routines divide and take square roots exactly
 """
 from __future__ import annotations
 
-from reactor import IsNan, MulAdd, Precision, RcpApprox, RsqrtApprox, Select, Sqrt, target_features
+from reactor import IsNan, MulAdd, Precision, RcpApprox, RsqrtApprox, Select, Sqrt, target_features, vector_type
 
 from .base import float_value, routine
 
 
 def _estimates_exact_at_edges() -> bool:
     return "avx512f" in target_features()
+
+
+def _exact_tier(precision) -> bool:
+    return precision in (Precision.FAITHFUL, Precision.CORRECT)
 
 
 def _keep_estimate_where_nan(estimate, refined):
@@ -45,7 +54,7 @@ def _keep_estimate_where_nan(estimate, refined):
 def rcp(x, precision: Precision = Precision.FULL):
     """1/x: IEEE specials (1/±0 = ±inf, 1/±inf = ±0, NaN -> NaN)."""
     x = float_value(x, "rcp")
-    if not _estimates_exact_at_edges():
+    if _exact_tier(precision) or not _estimates_exact_at_edges():
         return (1.0 / x).named("rcp")
     r = RcpApprox(x)
     if precision is Precision.RELAXED:
@@ -58,6 +67,9 @@ def rcp(x, precision: Precision = Precision.FULL):
 def rsqrt(x, precision: Precision = Precision.FULL):
     """1/sqrt(x): ±0 -> ±inf, +inf -> +0, x < 0 -> NaN, NaN -> NaN."""
     x = float_value(x, "rsqrt")
+    if _exact_tier(precision):
+        Double_ = vector_type("Double", x.width)
+        return vector_type("Float", x.width)(1.0 / Sqrt(Double_(x))).named("rsqrt")
     if not _estimates_exact_at_edges():
         return (1.0 / Sqrt(x)).named("rsqrt")
     r = RsqrtApprox(x)
@@ -71,7 +83,7 @@ def rsqrt(x, precision: Precision = Precision.FULL):
 def sqrt(x, precision: Precision = Precision.FULL):
     """sqrt(x): ±0 -> ±0, +inf -> +inf, x < 0 -> NaN, NaN -> NaN."""
     x = float_value(x, "sqrt")
-    if precision is Precision.FULL or not _estimates_exact_at_edges():
+    if precision is not Precision.RELAXED or not _estimates_exact_at_edges():
         return Sqrt(x).named("sqrt")
     s = x * RsqrtApprox(x)
     return Select(IsNan(s) & (x >= 0.0), x, s).named("sqrt")

@@ -24,12 +24,12 @@ import typing
 
 import numpy as np
 
-from ..build import Precision, Site
+from ..build import SHADER_TIERS, Site
 from ..errors import ReactorError
 from .domains import Check, rows_to_check
 from .outputs import Output, changed_rows, row_margin
 
-TIERS = tuple(p.value for p in Precision)  # least to most accurate
+TIERS = SHADER_TIERS  # least to most accurate
 WORST_ROWS = 2048  # rows around which a sampled check searches
 NEIGHBOURS = 16  # float32 steps on each side of each of them
 

@@ -1,0 +1,270 @@
+"""The faithful and correct tiers of exp2, exp, log2, log and pow: float64 lanes.
+
+A float32 input is exact in float64, and the reductions below are exact there too, so one
+polynomial evaluated in float64 (``routines.polynomials``: EXP2_*, LOG2_*) gives the result to
+a relative error far below float32's half ULP:
+
+    exp2(x):  k = round(x), r = x - k in [-1/2, 1/2] (exact), 2^x = 2^k * P(r)
+    exp(x):   x * log2(e) as x*L1 + x*L2 with L1 on 29 bits (x*L1 exact), then as exp2
+    log2(x):  x = 2^e * m, m in [0.75, 1.5), u = m - 1 (exact), s = u / (2 + u),
+              log2(x) = e + s * Q(s^2)      (Q ~ 2 atanh(s) / (s ln 2), s^2 in [0, 0.04])
+    log(x):   log2(x) * ln(2)
+
+**faithful**: the float64 value (relative error ~2^-28) rounded once to float32: at most
+0.5 + 2^-4 ULP, subnormal results included (never flushed).
+
+**correct**: the float64 value has a relative error below 2^-49 (degree-10 and degree-7
+polynomials). It is converted from y(1 - 2^-46) and from y(1 + 2^-46): where both give the
+same float32, every value within 2^-46 of y rounds to it, the exact result included, so it
+is the correctly rounded result. Where they differ (a rounding boundary is within 2^-46
+relative: about one input in 2^21), the lane is recomputed in double-double (``doubled``,
+Taylor series to ~2^-80) and rounded exactly (``doubled.round_pair``). ``python -m routines
+ladder --exhaustive`` checks every one of the 2^32 inputs against a correctly rounded reference.
+
+Results whose float32 is subnormal take the double-double lane too (their rounding point
+moves), as do the specials of log2 (zero, negative, subnormal, infinite and NaN inputs).
+
+Specials follow C99 Annex F / IEEE 754 (``docs/specials.md``); NaN bits follow the routines'
+rule (``base.nan_rule``): a NaN input comes back quieted, an invalid operation gives 0xffc00000.
+"""
+from __future__ import annotations
+
+import functools
+
+import mpmath
+
+import reactor
+from reactor import (
+    Any, As, If, IsInf, IsNan, Precision, Round, Select, ShiftRightArithmetic, Trunc, ToInt, Variable,
+    vector_type,
+)
+
+from . import doubled as dd
+from .base import DEFAULT_NAN_BITS, nan_rule
+from .polynomials import EXP2_CORRECT, EXP2_FAITHFUL, LOG2_CORRECT, LOG2_FAITHFUL
+
+#: The rounding test's relative window: above the float64 evaluation's error bound (2^-49).
+WINDOW = 2.0 ** -46
+
+# log2(e) = L1 + L2 + L3, L1 on 29 bits so that x * L1 is exact for a float32 x.
+LOG2E_1, LOG2E_2, LOG2E_3 = 1.442695040255785, 6.331784189566044e-10, -7.663673822123329e-27
+LN2 = (0.6931471805599453, 2.3190468138462996e-17)
+
+EXP_OVERFLOW = 88.72283935546875    # the least float32 x with exp(x) >= 2^128 - 2^103 (rounds to +inf)
+EXP_UNDERFLOW = -103.97208404541016  # the greatest float32 x with exp(x) <= 2^-150 (rounds to +0)
+_MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000
+
+
+def _types(width):
+    return (vector_type("Float", width), vector_type("Double", width), vector_type("Int", width),
+            vector_type("UInt", width))
+
+
+@functools.cache
+def _exp2_series():
+    """2^r = sum (ln 2)^n / n! r^n, n <= 18 (remainder < 2^-86 for |r| <= 1/2), highest first:
+    the terms from r^9 up in float64 (each below 2^-31, so their rounding stays below 2^-84),
+    the rest as double-double constants (mpmath, 60 digits)."""
+    with mpmath.workdps(60):
+        c = [mpmath.log(2) ** n / mpmath.factorial(n) for n in range(19)][::-1]
+        return [float(v) for v in c[:10]], [dd.constant(v) for v in c[10:]]
+
+
+@functools.cache
+def _log2_series():
+    """2 atanh(s) / (s ln 2) = sum 2 / ((2n+1) ln 2) z^n, z = s^2 <= 0.04, n <= 17 (remainder
+    < 2^-80); from z^6 up in float64, the rest as double-double constants."""
+    with mpmath.workdps(60):
+        c = [2 / ((2 * n + 1) * mpmath.log(2)) for n in range(18)][::-1]
+        return [float(v) for v in c[:12]], [dd.constant(v) for v in c[12:]]
+
+
+def _double_horner(x, coefficients):
+    acc = x * coefficients[0] + coefficients[1]
+    for c in coefficients[2:]:
+        acc = acc * x + c
+    return acc
+
+
+def _pow2(k):
+    """2^k as float64 lanes for a whole float64 k in [-250, 250]: two float32 powers of two."""
+    F, D, I, _ = _types(k.width)
+    a = reactor.Floor(k * 0.5)
+    b = k - a
+
+    def power(n):
+        return D(As(F, (ToInt(F(n)) + 127) << 23))
+    return power(a) * power(b)
+
+
+def _rounded(y, precision):
+    """float32 of the float64 ``y`` and the lanes where the rounding test fails (None: faithful)."""
+    F = vector_type("Float", y.width)
+    if precision is Precision.FAITHFUL:
+        return F(y), None
+    lo, hi = F(y * (1.0 - WINDOW)), F(y * (1.0 + WINDOW))
+    return lo, lo != hi
+
+
+def _insert_exponent(f, k):
+    """f * 2^k for a float32 f and a whole float k, as an integer add to the exponent field
+    (exact: the caller keeps the result normal and finite, or exactly +inf)."""
+    _, _, I, _ = _types(f.width)
+    return As(vector_type("Float", f.width), As(I, f) + (ToInt(k) << 23))
+
+
+def _exp2_pair(k, r_hi, r_lo):
+    """2^(k + r_hi + r_lo) as a double-double (k whole, |r_hi| <= 1/2, |r_lo| < 2^-40)."""
+    high, low = _exp2_series()
+    start = _double_horner(r_hi, high)
+    p = dd.horner((r_hi, 0.0 * r_hi), low, start=(start, 0.0 * r_hi))
+    p = dd.fast_two_sum(p[0], p[1] + p[0] * (r_lo * LN2[0]))  # 2^r_lo = 1 + r_lo ln 2 + O(2^-80)
+    s = _pow2(k)
+    return p[0] * s, p[1] * s
+
+
+def _exp_family(x, precision, natural):
+    F, D, I, _ = _types(x.width)
+    poly = EXP2_CORRECT if precision is Precision.CORRECT else EXP2_FAITHFUL
+    if natural:
+        overflow, underflow, normal_from = EXP_OVERFLOW, EXP_UNDERFLOW, -86.0
+    else:
+        overflow, underflow, normal_from = 128.0, -150.0, -125.0
+    vector = (x >= normal_from) & (x < overflow)       # results normal and finite (NaN: no)
+    xd = D(Select(vector, x, 0.0))
+    if natural:
+        p1 = xd * LOG2E_1                               # exact
+        k = Round(p1)
+        r = (p1 - k) + xd * LOG2E_2
+    else:
+        k = Round(xd)
+        r = xd - k                                      # exact
+    f, hard = _rounded(poly(r), precision)
+    result = Variable(F, _insert_exponent(f, F(k)))
+    tiny = (x > underflow) & (x < normal_from)          # subnormal results: rounded from float64
+    slow = tiny if hard is None else tiny | (hard & vector)
+    with If(Any(slow)):
+        xs = D(Select(tiny | vector, x, 0.0))
+        if natural:
+            p1 = xs * LOG2E_1
+            k2 = Round(p1)
+            p2, e2 = dd.two_prod(xs, LOG2E_2)
+            a, b = dd.two_sum(p1 - k2, p2)
+            r_hi, r_lo = dd.fast_two_sum(a, b + (e2 + xs * LOG2E_3))
+        else:
+            k2 = Round(xs)
+            r_hi, r_lo = xs - k2, 0.0 * xs
+        exact = dd.round_pair(*_exp2_pair(k2, r_hi, r_lo))
+        result.set(Select(slow, exact, result))
+    out = Select(x >= overflow, float("inf"), result.value)
+    out = Select(x <= underflow, 0.0, out)
+    return Select(IsNan(x), x + x, out)                 # a NaN x, quieted
+
+
+def exp2(x, precision):
+    return _exp_family(x, precision, natural=False)
+
+
+def exp(x, precision):
+    return _exp_family(x, precision, natural=True)
+
+
+def _decompose(x):
+    """(e, u) with x = 2^e (1 + u), u in [-0.25, 0.5), both exact, for a positive normal x."""
+    F, D, I, _ = _types(x.width)
+    bits = As(I, x)
+    e = ShiftRightArithmetic(bits - 0x3F400000, 23)    # 0.75's bits: m in [0.75, 1.5)
+    u = As(F, bits - (e << 23)) - 1.0                  # exact (Sterbenz)
+    return D(e), D(u)
+
+
+def _log2_double(e, u, poly):
+    s = u / (u + 2.0)
+    return e + s * poly(s * s)
+
+
+def _log2_pair(e, u):
+    """log2(2^e (1 + u)) as a double-double (Taylor series of atanh to ~2^-80)."""
+    d = u + 2.0                                         # exact
+    s_hi = u / d
+    p, pe = dd.two_prod(s_hi, d)
+    s = dd.fast_two_sum(s_hi, ((u - p) - pe) / d)       # u - p is exact
+    z = dd.mul(s, s)
+    high, low = _log2_series()
+    c = dd.horner(z, low, start=(_double_horner(z[0], high), 0.0 * u))
+    return dd.add((e, 0.0 * u), dd.mul(s, c))
+
+
+def _positive_normal(x):
+    _, _, I, U = _types(x.width)
+    return As(U, As(I, x) - _MIN_NORMAL_BITS) < U(_INF_BITS - _MIN_NORMAL_BITS)
+
+
+def _log_family(x, precision, natural):
+    F, D, I, _ = _types(x.width)
+    poly = LOG2_CORRECT if precision is Precision.CORRECT else LOG2_FAITHFUL
+    normal = _positive_normal(x)
+    e, u = _decompose(Select(normal, x, 1.0))
+    y = _log2_double(e, u, poly)
+    f, hard = _rounded(y * LN2[0] if natural else y, precision)
+    result = Variable(F, f)
+    slow = ~normal if hard is None else ~normal | hard
+    with If(Any(slow)):
+        subnormal = (x > 0.0) & (x < 2.0 ** -126)
+        xs = Select(subnormal, x * 2.0 ** 24, Select(normal, x, 1.0))   # exact
+        e2, u2 = _decompose(xs)
+        pair = _log2_pair(e2 - Select(subnormal, D(24.0), D(0.0)), u2)
+        if natural:
+            pair = dd.mul(pair, LN2)
+        exact = dd.round_pair(*pair)
+        special = Select(x == 0.0, F(float("-inf")), As(F, I(DEFAULT_NAN_BITS)))  # +-0; x < 0
+        special = Select(x == float("inf"), x, special)
+        special = Select(IsNan(x), x + x, special)
+        result.set(Select(slow, Select(normal | subnormal, exact, special), result))
+    return result.value
+
+
+def log2(x, precision):
+    return _log_family(x, precision, natural=False)
+
+
+def log(x, precision):
+    return _log_family(x, precision, natural=True)
+
+
+def _whole(y):
+    """(integer, odd) masks of a float32 y (every |y| >= 2^24 is an even integer)."""
+    _, _, I, _ = _types(y.width)
+    integer = Trunc(y) == y
+    small = reactor.Abs(y) < 2.0 ** 24
+    odd = integer & small & ((ToInt(Select(small, y, 0.0)) & 1) == 1)
+    return integer, odd
+
+
+def pow(x, y, precision):  # noqa: A001
+    """x^y with C99 Annex F semantics (pow, not powr), faithful: y log2|x| is formed in float64
+    from a log2 with relative error ~2^-50, so the exponent's error stays below 2^-42 absolute
+    for every finite result, and 2^t is rounded once to float32 (subnormal results included)."""
+    F, D, I, _ = _types(x.width)
+    ax = reactor.Abs(x)
+    subnormal = ax < 2.0 ** -126
+    xs = Select(subnormal, ax * 2.0 ** 24, Select(_positive_normal(ax), ax, 1.0))
+    e, u = _decompose(xs)
+    lx = _log2_double(e - Select(subnormal, D(24.0), D(0.0)), u, LOG2_CORRECT)
+    t = D(y) * lx
+    t = Select(IsInf(t) | IsNan(t), D(0.0), t)                # zeros, infinities, NaNs: below
+    t = reactor.Min(reactor.Max(t, D(-200.0)), D(200.0))      # 2^t is 0 or inf beyond
+    k = Round(t)
+    core = F(EXP2_CORRECT(t - k) * _pow2(k))          # one rounding, subnormal and overflow included
+    # The cases the formula above does not give: zeros, infinities, NaNs, and the sign.
+    integer, odd = _whole(y)
+    log_inf = (ax == 0.0) | (ax == float("inf")) | IsInf(y)
+    toward_inf = Select(ax == 0.0, y < 0.0, Select(ax == float("inf"), y > 0.0, (ax > 1.0) == (y > 0.0)))
+    edge = Select(toward_inf, F(float("inf")), F(0.0))
+    magnitude = Select(log_inf, edge, core)
+    signed = Select(odd & (As(I, x) < 0), -magnitude, magnitude)
+    invalid = (x < 0.0) & ~IsInf(x) & ~integer & ~IsInf(y)   # a negative base to a non-integer
+    out = Select(invalid, As(F, I(DEFAULT_NAN_BITS)), signed)
+    out = nan_rule(Select(IsNan(x) | IsNan(y), x + y, out), x, y)
+    one = (y == 0.0) | (x == 1.0) | ((x == -1.0) & IsInf(y))
+    return Select(one, F(1.0), out)

@@ -1,0 +1,61 @@
+"""``python -m routines ladder``: the faithful and correct tiers, proved on the compiled code.
+
+Each variant (function x tier x FMA on/off) runs on float32 inputs against a correctly
+rounded reference (``routines.lab.ladder``): results not correctly rounded, max ULP-32,
+subnormal results. By default every 256th bit pattern (2^24 inputs, every binade and sign);
+``--exhaustive``: all 2^32. pow (faithful) runs the stratified 2^30-pair sweep (every 16th
+stratum by default) plus its hard pairs. Exit status 1 if a correct variant misrounds any
+input or a faithful one errs by 1 ULP or more.
+"""
+from __future__ import annotations
+
+import json
+import pathlib
+
+from . import add_quiet
+from . import parser as command_parser
+
+FUNCS = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt", "pow")
+
+
+def main(argv: list[str]) -> int:
+    p = command_parser("ladder", __doc__, ("exp2 log2 --exhaustive", "pow", "--fma on --precisions correct"))
+    p.add_argument("functions", nargs="*", choices=FUNCS, help="default: all")
+    p.add_argument("--precisions", nargs="+", choices=("faithful", "correct"), default=["faithful", "correct"])
+    p.add_argument("--fma", nargs="+", choices=("on", "off"), default=["on", "off"])
+    p.add_argument("--exhaustive", action="store_true", help="all 2^32 inputs (pow: all 256 strata)")
+    p.add_argument("--json", default="out/ladder.json", help="where to write the results (default %(default)s)")
+    add_quiet(p)
+    args = p.parse_args(argv)
+
+    from tqdm import tqdm
+
+    from .. import jit
+    from ..base import tiers
+    from ..lab import ladder
+
+    failed = False
+    results = []
+    for func in args.functions or FUNCS:
+        for precision in args.precisions:
+            if precision not in tiers(func):
+                continue
+            for fma in args.fma:
+                u = jit(func, precision, fma=fma == "on")
+                variant = f"{precision} fma {fma}"
+                step = 1 if args.exhaustive else (16 if func == "pow" else 256)
+                total = (2 ** 30 if func == "pow" else 2 ** 32) // step
+                with tqdm(total=total, unit="in", unit_scale=True, disable=None if not args.quiet else True,
+                          desc=f"{func} {variant}", leave=False) as bar:
+                    r = ladder.sweep(u, func, variant, step=step, progress=bar.update)
+                print(r.line(), flush=True)
+                bad = r.misrounded if precision == "correct" else int(r.max_ulp >= 1.0)
+                failed |= bool(bad)
+                results.append({**vars(r), "exhaustive": args.exhaustive, "step": step})
+    out = pathlib.Path(args.json)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    old = json.loads(out.read_text()) if out.exists() else []
+    keep = [o for o in old if (o["func"], o["variant"], o["exhaustive"]) not in
+            {(r["func"], r["variant"], r["exhaustive"]) for r in results}]
+    out.write_text(json.dumps(keep + results, indent=1, default=str))
+    return 1 if failed else 0

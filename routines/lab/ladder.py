@@ -1,0 +1,208 @@
+"""The accuracy ladder's proof: a compiled unary kernel on every float32 input, against a
+correctly rounded reference.
+
+The reference is NumPy's float64 function (relative error below 2^-52; for rsqrt two
+correctly rounded float64 operations) rounded to float32. That rounding is the correct one
+unless the float64 value lies within ``NEAR`` (2^-40) relative of a float32 rounding
+boundary (the midpoint between two neighbouring floats, subnormal ones included): those
+inputs, about one in 2^15, are decided by mpmath at 50 digits against the exact midpoint.
+
+Per variant: results not correctly rounded (bits, the sign of zero included; a NaN must meet
+a NaN), the largest error in ULP-32 (against the float64 value, in the spacing of float32
+there), results in the subnormal range and how many of them are wrong, and how many
+inputs mpmath decided. ``python -m routines ladder`` runs it; ``--exhaustive`` sweeps all
+2^32 inputs in chunks on every core.
+"""
+from __future__ import annotations
+
+import dataclasses
+import multiprocessing
+import time
+
+import mpmath
+import numpy as np
+
+from .measures import ulp32
+from .reference import reference
+
+UNARY = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt")
+NEAR = 2.0 ** -40
+BLOCK = 2 ** 18
+_MP = {"exp2": lambda v: mpmath.power(2, v), "exp": mpmath.exp, "log2": lambda v: mpmath.log(v, 2),
+       "log": mpmath.log, "rcp": lambda v: 1 / v, "rsqrt": lambda v: 1 / mpmath.sqrt(v),
+       "sqrt": mpmath.sqrt, "pow": mpmath.power}
+_FLT_MAX = float(np.finfo(np.float32).max)
+
+
+def c99_reference(func: str, x: np.ndarray, y: np.ndarray | None = None) -> np.ndarray:
+    """float64 ``func(x)`` (pow: C99's pow(x, y), NumPy's float64 power)."""
+    if func == "pow":
+        with np.errstate(all="ignore"):
+            return np.power(x.astype(np.float64), y.astype(np.float64))
+    return reference(func, x)
+
+
+def correctly_rounded(func: str, x: np.ndarray, ref: np.ndarray | None = None,
+                      y: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+    """The correctly rounded float32 ``func(x)`` (``func(x, y)``) and how many lanes mpmath decided."""
+    ref = c99_reference(func, x, y) if ref is None else ref
+    with np.errstate(all="ignore"):
+        r = ref.astype(np.float32)
+        finite = np.isfinite(ref) & (np.abs(ref) <= 2.0 ** 128)
+        base = np.where(np.isinf(r), np.copysign(np.float32(_FLT_MAX), r), r).astype(np.float64)
+        toward = np.where(ref > base, np.inf, -np.inf).astype(np.float32)
+        other = np.nextafter(base.astype(np.float32), toward).astype(np.float64)
+        mid = (base + other) * 0.5
+        near = finite & (np.abs(ref - mid) <= NEAR * np.abs(ref)) & (ref != base)
+    where = np.flatnonzero(near)
+    if where.size:
+        exact = _MP[func]
+        with mpmath.workdps(50):
+            for i in where:
+                args = (x[i],) if y is None else (x[i], y[i])
+                v = exact(*(mpmath.mpf(float(a)) for a in args))
+                m = mpmath.mpf(float(mid[i]))
+                lo, hi = sorted((float(base[i]), float(other[i])))
+                if v != m:
+                    pick = hi if v > m else lo
+                else:  # ties to even
+                    pick = lo if int(np.float32(lo).view(np.uint32)) % 2 == 0 else hi
+                r[i] = np.float32(pick) if abs(pick) <= _FLT_MAX else np.float32(np.copysign(np.inf, pick))
+    return r, int(where.size)
+
+
+@dataclasses.dataclass
+class LadderResult:
+    """One variant's sweep (see the module docstring)."""
+
+    func: str
+    variant: str
+    inputs: int = 0
+    misrounded: int = 0
+    max_ulp: float = 0.0
+    max_ulp_at: float = float("nan")
+    subnormal_results: int = 0
+    subnormal_misrounded: int = 0
+    decided_by_mpmath: int = 0
+    seconds: float = 0.0
+    examples: list = dataclasses.field(default_factory=list)
+
+    def merge(self, other: "LadderResult") -> None:
+        for name in ("inputs", "misrounded", "subnormal_results", "subnormal_misrounded", "decided_by_mpmath"):
+            setattr(self, name, getattr(self, name) + getattr(other, name))
+        if other.max_ulp > self.max_ulp:
+            self.max_ulp, self.max_ulp_at = other.max_ulp, other.max_ulp_at
+        self.examples = (self.examples + other.examples)[:8]
+
+    def line(self) -> str:
+        return (f"{self.func:6s} {self.variant:22s} {self.inputs:>11,d} inputs  misrounded {self.misrounded:,d}  "
+                f"max {self.max_ulp:.4f} ULP (x = {self.max_ulp_at:.9g})  subnormal results "
+                f"{self.subnormal_results:,d} ({self.subnormal_misrounded} wrong)  mpmath decided "
+                f"{self.decided_by_mpmath:,d}  {self.seconds:.1f} s")
+
+
+def score(ufunc, func: str, variant: str, bits: np.ndarray, y_bits: np.ndarray | None = None) -> LadderResult:
+    """Score ``ufunc`` on the float32 inputs with these bit patterns (pow: and exponents)."""
+    out = LadderResult(func, variant)
+    for s in range(0, bits.size, BLOCK):
+        x = bits[s:s + BLOCK].view(np.float32)
+        y = None if y_bits is None else y_bits[s:s + BLOCK].view(np.float32)
+        got = ufunc(x) if y is None else ufunc(x, y)
+        ref = c99_reference(func, x, y)
+        want, decided = correctly_rounded(func, x, ref, y)
+        both_nan = np.isnan(got) & np.isnan(want)
+        wrong = (got.view(np.uint32) != want.view(np.uint32)) & ~both_nan
+        with np.errstate(all="ignore"):
+            err = np.abs(got.astype(np.float64) - ref) / ulp32(ref)
+            err[~(np.isfinite(err) & np.isfinite(got))] = 0.0
+        tiny = np.isfinite(ref) & (np.abs(ref) < 2.0 ** -126) & (ref != 0)
+        block = LadderResult(func, variant, inputs=x.size, misrounded=int(wrong.sum()),
+                             subnormal_results=int(tiny.sum()), subnormal_misrounded=int((tiny & wrong).sum()),
+                             decided_by_mpmath=decided)
+        i = int(np.argmax(err))
+        block.max_ulp, block.max_ulp_at = float(err[i]), float(x[i])
+        block.examples = [(float(x[j]),) + (() if y is None else (float(y[j]),)) + (float(got[j]), float(want[j]))
+                          for j in np.flatnonzero(wrong)[:8]]
+        out.merge(block)
+    return out
+
+
+_WORKER: dict = {}
+
+
+def _init(ufunc, func, variant):
+    _WORKER.update(ufunc=ufunc, func=func, variant=variant)
+
+
+def _task(span):
+    start, stop, step = span
+    bits = np.arange(start, stop, step, dtype=np.uint64).astype(np.uint32)
+    return score(_WORKER["ufunc"], _WORKER["func"], _WORKER["variant"], bits)
+
+
+def _pow_task(task):
+    k, y = task
+    from .pairs import _x_stratum
+    x = _x_stratum(k, 0)
+    return score(_WORKER["ufunc"], "pow", _WORKER["variant"], x, np.full(x.size, y, np.uint32))
+
+
+def pow_hard_cases() -> tuple[np.ndarray, np.ndarray]:
+    """pow's hard pairs: x next to 1 with large |y|, results at the overflow, underflow and
+    subnormal thresholds, exact cases (2^k, 4^0.5, (-8)^3, ...), and every C99 special."""
+    rng = np.random.default_rng(17)
+    xs, ys = [], []
+    one = np.float32(1.0)
+    near_one = [np.nextafter(one, np.float32(2)), np.nextafter(one, np.float32(0))]
+    for k in range(1, 2000):
+        near_one += [np.float32(1 + k * 2.0 ** -23), np.float32(1 - k * 2.0 ** -24)]
+    for x in near_one:
+        for target in (127.9, 100.0, 10.0, -125.5, -149.5, -140.0):
+            y = np.float32(target / np.log2(np.float64(x)))
+            xs += [x, x, x]
+            ys += [y, np.nextafter(y, np.float32(np.inf)), np.nextafter(y, np.float32(-np.inf))]
+    for t in np.concatenate([np.linspace(127.0, 128.5, 3000), np.linspace(-152.0, -125.0, 3000)]):
+        x = np.float32(rng.uniform(0.1, 10.0))
+        xs.append(x)
+        ys.append(np.float32(t / np.log2(np.float64(x))))
+    for b in range(-149, 128):                    # 2^b = x^y exactly
+        for x, y in ((2.0, b), (4.0, b / 2), (0.5, -b), (2.0 ** max(-126, min(b, 127)), 1.0)):
+            xs.append(x)
+            ys.append(y)
+    for base in range(-12, 13):                   # whole powers of whole numbers, negative bases too
+        for n in range(-8, 9):
+            xs.append(base)
+            ys.append(n)
+    specials = [0.0, -0.0, 1.0, -1.0, 0.5, -0.5, 2.0, -2.0, 3.0, -3.0, 2.5, -2.5, np.inf, -np.inf, np.nan,
+                1e-45, -1e-45, 3.4e38, -3.4e38, 2.0 ** 24, -(2.0 ** 24) - 2, 1.0000001, 0.99999994]
+    for x in specials:
+        for y in specials:
+            xs.append(x)
+            ys.append(y)
+    return np.asarray(xs, np.float32).view(np.uint32), np.asarray(ys, np.float32).view(np.uint32)
+
+
+def sweep(ufunc, func: str, variant: str, *, start: int = 0, stop: int = 2 ** 32, step: int = 1,
+          chunk: int = 2 ** 22, workers: int | None = None, progress=None) -> LadderResult:
+    """Every ``step``-th float32 bit pattern in [start, stop), in tasks of ``chunk`` patterns on
+    forked workers. pow: the stratified sweep of ``routines.lab.pairs`` (256 exponents y, 2^22
+    x each: 2^30 pairs; ``step`` > 1 takes every step-th stratum) plus ``pow_hard_cases``."""
+    t0 = time.perf_counter()
+    if func == "pow":
+        from .pairs import y_strata
+        tasks, run = list(enumerate(y_strata(0)))[::step], _pow_task
+    else:
+        span = chunk * step
+        tasks, run = [(s, min(s + span, stop), step) for s in range(start, stop, span)], _task
+    total = LadderResult(func, variant)
+    if func == "pow":
+        total.merge(score(ufunc, func, variant, *pow_hard_cases()))
+    workers = workers or multiprocessing.cpu_count()
+    ctx = multiprocessing.get_context("fork")
+    with ctx.Pool(workers, initializer=_init, initargs=(ufunc, func, variant)) as pool:
+        for part in pool.imap_unordered(run, tasks):
+            total.merge(part)
+            if progress:
+                progress(part.inputs)
+    total.seconds = time.perf_counter() - t0
+    return total
