@@ -97,20 +97,21 @@ def _pow2(k):
     return power(a) * power(b)
 
 
-def _rounded(y, precision):
-    """float32 of the float64 ``y`` and the lanes where the rounding test fails (None: faithful)."""
+def _rounded(y, precision, signed=True):
+    """float32 of the float64 ``y`` and the lanes where the rounding test fails (None: faithful).
+    ``signed=False`` where y is positive or NaN (one ordered compare; a NaN lane passes)."""
     F = vector_type("Float", y.width)
     if precision is Precision.FAITHFUL:
         return F(y), None
     lo, hi = F(y * (1.0 - WINDOW)), F(y * (1.0 + WINDOW))
-    return lo, lo != hi
+    return lo, (lo != hi) if signed else lo < hi
 
 
 def _insert_exponent(f, k):
-    """f * 2^k for a float32 f and a whole float k, as an integer add to the exponent field
-    (exact: the caller keeps the result normal and finite, or exactly +inf)."""
+    """f * 2^k for a float32 f and a whole float32 k, as an integer add to the exponent field
+    (exact where the result is normal and finite, or exactly +inf; a NaN f or k gives f)."""
     _, _, I, _ = _types(f.width)
-    return As(vector_type("Float", f.width), As(I, f) + (ToInt(k) << 23))
+    return As(vector_type("Float", f.width), As(I, f) + (ToInt(k, saturate=False) << 23))
 
 
 def _exp2_pair(k, r_hi, r_lo):
@@ -124,27 +125,28 @@ def _exp2_pair(k, r_hi, r_lo):
 
 
 def _exp_family(x, precision, natural):
+    """The vector path covers results that are normal floats; a NaN x flows through it (the
+    exponent insert adds nothing for a NaN k). Lanes below (subnormal or zero results, -inf)
+    and lanes that fail the rounding test take the double-double path."""
     F, D, I, _ = _types(x.width)
     poly = EXP2_CORRECT if precision is Precision.CORRECT else EXP2_FAITHFUL
     if natural:
         overflow, underflow, normal_from = EXP_OVERFLOW, EXP_UNDERFLOW, -86.0
+        xd = D(x)
+        p1 = xd * LOG2E_1                               # exact
+        kd = Round(p1)
+        r = (p1 - kd) + xd * LOG2E_2
+        k = F(kd)
     else:
         overflow, underflow, normal_from = 128.0, -150.0, -125.0
-    vector = (x >= normal_from) & (x < overflow)       # results normal and finite (NaN: no)
-    xd = D(Select(vector, x, 0.0))
-    if natural:
-        p1 = xd * LOG2E_1                               # exact
-        k = Round(p1)
-        r = (p1 - k) + xd * LOG2E_2
-    else:
-        k = Round(xd)
-        r = xd - k                                      # exact
-    f, hard = _rounded(poly(r), precision)
-    result = Variable(F, _insert_exponent(f, F(k)))
-    tiny = (x > underflow) & (x < normal_from)          # subnormal results: rounded from float64
-    slow = tiny if hard is None else tiny | (hard & vector)
+        k = Round(x)
+        r = D(x - k)                                    # exact
+    f, hard = _rounded(poly(r), precision, signed=False)
+    result = Variable(F, _insert_exponent(f, k))
+    below = x < normal_from
+    slow = below if hard is None else below | hard
     with If(Any(slow)):
-        xs = D(Select(tiny | vector, x, 0.0))
+        xs = D(Select((x > underflow) & (x < overflow), x, 0.0))
         if natural:
             p1 = xs * LOG2E_1
             k2 = Round(p1)
@@ -155,10 +157,9 @@ def _exp_family(x, precision, natural):
             k2 = Round(xs)
             r_hi, r_lo = xs - k2, 0.0 * xs
         exact = dd.round_pair(*_exp2_pair(k2, r_hi, r_lo))
-        result.set(Select(slow, exact, result))
-    out = Select(x >= overflow, float("inf"), result.value)
-    out = Select(x <= underflow, 0.0, out)
-    return Select(IsNan(x), x + x, out)                 # a NaN x, quieted
+        exact = Select(x <= underflow, 0.0, exact)     # -inf included
+        result.set(Select(slow, Select(IsNan(x), x + x, exact), result))
+    return Select(x >= overflow, float("inf"), result.value)
 
 
 def exp2(x, precision):
@@ -204,7 +205,7 @@ def _log_family(x, precision, natural):
     F, D, I, _ = _types(x.width)
     poly = LOG2_CORRECT if precision is Precision.CORRECT else LOG2_FAITHFUL
     normal = _positive_normal(x)
-    e, u = _decompose(Select(normal, x, 1.0))
+    e, u = _decompose(x)                                # garbage where not normal: replaced below
     y = _log2_double(e, u, poly)
     f, hard = _rounded(y * LN2[0] if natural else y, precision)
     result = Variable(F, f)

@@ -1,4 +1,4 @@
-"""``python -m routines dump NAME [--precision full|relaxed] [--what ir|opt|asm] [--fma on|off] ...``
+"""``python -m routines dump NAME [--precision relaxed|full|faithful|correct] [--what ir|opt|asm] [--fma on|off] ...``
 
 Prints the IR, optimized IR or assembly of a routine's ready-made kernel
 (``routines.jit(NAME, ...)``), e.g. ``python -m routines dump exp2 --fma off``.
@@ -8,7 +8,7 @@ from __future__ import annotations
 from reactor.cli import add_build_arguments, build_options, text
 
 from .. import NAMES, jit
-from ..base import PRECISIONS
+from ..base import LADDER
 from . import CommandError, parser as command_parser
 
 
@@ -16,7 +16,7 @@ def main(argv: list[str]) -> int:
     parser = command_parser("dump", __doc__, ("exp2 --fma off", "pow --precision relaxed --what ir",
                                               "log2 --what opt --width 8 --target avx2"))
     parser.add_argument("name", choices=NAMES)
-    parser.add_argument("--precision", choices=PRECISIONS, default="full")
+    parser.add_argument("--precision", choices=LADDER, default="full")
     add_build_arguments(parser)
     args = parser.parse_args(argv)
     opts = build_options(args)

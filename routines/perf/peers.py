@@ -22,6 +22,12 @@
   bound: u10 = 1.0 ULP, u35 = 3.5 ULP, u3500 = 350 ULP, u05 = 0.5001 ULP.
   Where the library is not installed (``apt-get install libsleef3``) these
   peers are reported **absent**, not failed.
+* **Intel SVML** (``libsvml.so`` from PyPI's ``intel-cmplr-lib-rt``, the optional extra
+  ``pip install reactor[svml]``): its five tiers of exp2, exp, log2, log, pow and invsqrt
+  (rsqrt) at the host's level (``__svml_exp2f8``, ``__svml_exp2f8_ha``, ``_ep``, ``_br``,
+  ``_cr``; ``f16`` with AVX-512, ``f4`` with SSE). Intel documents ``la`` (no suffix) at
+  4 ULP, ``ha`` 1 ULP, ``ep`` about half the bits, ``br`` bitwise reproducible (1 ULP),
+  ``cr`` correctly rounded. Absent without the package.
 * **numba** ``@vectorize`` float32 ufuncs, only where numba is importable
   (absent otherwise).
 
@@ -44,6 +50,7 @@ import numpy as np
 
 LIBMVEC = "libmvec.so.1"
 LIBSLEEF = "libsleef.so.3"
+LIBSVML = "libsvml.so"
 
 #: (family, label, symbol or numpy callable, arity, documented accuracy) per function.
 _NUMPY = {
@@ -69,6 +76,10 @@ _SLEEF = {
     "sqrt": ["sqrtf{w}_u05", "sqrtf{w}_u35"],
 } | {f: [f"{f}f{{w}}_u10", f"{f}f{{w}}_u35"] + ([f"fast{f}f{{w}}_u3500"] if f in ("sin", "cos") else [])
      for f in TRIG}
+#: SVML's names (C names without ``f``) and its tiers: (symbol suffix, label, documented accuracy).
+_SVML = {"exp2": "exp2", "exp": "exp", "log2": "log2", "log": "log", "pow": "pow", "rsqrt": "invsqrt"}
+SVML_TIERS = (("", "la", "4 ULP"), ("_ha", "ha", "1 ULP"), ("_ep", "ep", "about 11 bits"),
+              ("_br", "br", "1 ULP, bitwise reproducible"), ("_cr", "cr", "correctly rounded"))
 _SLEEF_CLAIM = {"u05": "0.5001 ULP", "u10": "1.0 ULP", "u35": "3.5 ULP", "u3500": "350 ULP"}
 ARITY = {"pow": 2, "atan2": 2}
 #: x86-64 vector-function ABI levels, widest first: (required CPU feature, lanes, ISA letter).
@@ -155,6 +166,34 @@ def missing(symbol: str, library: str) -> str:
     return f"{library} has no symbol {symbol}"
 
 
+@functools.lru_cache(maxsize=None)
+def svml_library() -> str | None:
+    """The path of libsvml.so from the ``intel-cmplr-lib-rt`` wheel (its libintlc loaded
+    first), or None where it is not installed."""
+    import ctypes
+    import os
+    import site
+    import sys
+
+    for root in [sys.prefix, site.getuserbase()] + site.getsitepackages():
+        lib = os.path.join(root, "lib")
+        if os.path.exists(os.path.join(lib, LIBSVML)):
+            try:
+                ctypes.CDLL(os.path.join(lib, "libintlc.so.5"), mode=ctypes.RTLD_GLOBAL)
+            except OSError:
+                return None
+            return os.path.join(lib, LIBSVML)
+    return None
+
+
+def svml_symbols(func: str) -> list[tuple[str, str, str]]:
+    """(symbol, tier, documented accuracy) of SVML's entry points for ``func`` at the host's level."""
+    if func not in _SVML:
+        return []
+    lanes, _ = vector_level()
+    return [(f"__svml_{_SVML[func]}f{lanes}{suffix}", tier, claim) for suffix, tier, claim in SVML_TIERS]
+
+
 class _RsqrtNumpy:
     """``1 / np.sqrt(x)`` in two NumPy passes through a scratch array laid out
     like ``out`` (an in-place second pass on the harness's stride-0 views
@@ -199,7 +238,7 @@ def _numba_ufunc(func: str):
     return numba.vectorize(sig, nopython=True)(fn)
 
 
-FAMILIES = ("numpy", "libmvec", "sleef", "numba")
+FAMILIES = ("numpy", "libmvec", "sleef", "svml", "numba")
 
 
 def peers(functions, libraries: dict | None = None, families=FAMILIES) -> list[Peer]:
@@ -234,6 +273,13 @@ def _peers_of(func, libs, families) -> list[Peer]:
         name = f"fast{func}" if "_fast" in sym else func
         out.append(Peer(f"sleef {name} {suffix}", func, "sleef", sym, _SLEEF_CLAIM.get(suffix, suffix),
                         k, "" if k is not None else missing(sym, libs["sleef"])))
+    if "svml" in families:
+        path = libs.get("svml") or svml_library()
+        for sym, tier, claim in svml_symbols(func):
+            k = external_kernel(sym, path, arity) if path else None
+            why = "" if k is not None else ("intel-cmplr-lib-rt not installed (pip install intel-cmplr-lib-rt)"
+                                            if not path else missing(sym, path))
+            out.append(Peer(f"svml {func} {tier}", func, "svml", sym, claim, k, why))
     if "numba" in families:
         try:
             fn, reason = _numba_ufunc(func), ""

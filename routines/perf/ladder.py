@@ -1,0 +1,169 @@
+"""The accuracy ladder beside its peers: every tier of ours and every peer is a point
+(time per element, max ULP-32), and each peer is either dominated by one of our points (at
+most its time and at most its error) or not.
+
+Time: 64K float32 operands of ``timing.inputs`` (exp/exp2 in [-10, 10], logs in [1e-3, 100],
+pow x in [1e-3, 100] and y in [-10, 10]), one thread, every candidate called in turn in each
+of ``rounds`` rounds (same-run ratios on a shared machine), the median kept.
+Error: ``routines.lab.ladder.score`` on a sample of every binade: every 4099th float32 bit
+pattern (1,047,811 inputs), and for pow the hard pairs plus every 16th stratum of the 2^30
+sweep thinned to every 16th x (1M pairs); the max ULP-32 is taken over finite results (the
+specials are counted apart as results not correctly rounded). The exhaustive figures of our
+faithful and correct tiers come from ``python -m routines ladder --exhaustive``.
+"""
+from __future__ import annotations
+
+import dataclasses
+import statistics
+import time
+
+import numpy as np
+
+FUNCS = ("exp2", "exp", "log2", "log", "pow")
+N = 1 << 16
+SAMPLE_STRIDE = 4099
+
+
+@dataclasses.dataclass
+class Point:
+    key: str
+    func: str
+    family: str           # "ours" or the peer's family
+    label: str
+    claimed: str = ""
+    ns: float = float("nan")
+    max_ulp: float = float("nan")
+    misrounded: int = 0
+    inputs: int = 0
+    present: bool = True
+    reason: str = ""
+    dominated_by: str | None = None
+
+    @property
+    def ours(self) -> bool:
+        return self.family == "ours"
+
+
+def sample(func: str) -> tuple[np.ndarray, np.ndarray | None]:
+    """The accuracy sample's operand bit patterns (see the module docstring)."""
+    if func != "pow":
+        return np.arange(0, 2 ** 32, SAMPLE_STRIDE, dtype=np.uint64).astype(np.uint32), None
+    from ..lab.ladder import pow_hard_cases
+    from ..lab.pairs import _x_stratum, y_strata
+    xs, ys = [pow_hard_cases()[0]], [pow_hard_cases()[1]]
+    for k, y in list(enumerate(y_strata(0)))[::16]:
+        x = _x_stratum(k, 0)[::16]
+        xs.append(x)
+        ys.append(np.full(x.size, y, np.uint32))
+    return np.concatenate(xs), np.concatenate(ys)
+
+
+def candidates(functions=FUNCS, fma: bool | None = None) -> list[tuple[Point, object]]:
+    """(point, callable ``fn(*args, out=)``) for our tiers and every peer, absent ones included."""
+    from .. import jit
+    from ..base import tiers
+    from . import peers as peer_mod
+    out = []
+    for func in functions:
+        for tier in tiers(func):
+            out.append((Point(f"ours {func} {tier}", func, "ours", tier), jit(func, tier, fma=fma)))
+        for p in peer_mod.peers([func], families=("numpy", "libmvec", "sleef", "svml")):
+            pt = Point(p.key, func, p.family, p.label, p.claimed, present=p.present, reason=p.reason)
+            out.append((pt, p.fn))
+    return out
+
+
+def measure_accuracy(points: list[tuple[Point, object]]) -> None:
+    from ..lab.ladder import score
+    from .peers import as_array_function
+    samples = {}
+    for pt, fn in points:
+        if not pt.present:
+            continue
+        if pt.func not in samples:
+            samples[pt.func] = sample(pt.func)
+        x, y = samples[pt.func]
+        r = score(as_array_function(fn), pt.func, pt.label, x, y)
+        pt.max_ulp, pt.misrounded, pt.inputs = r.max_ulp, r.misrounded, r.inputs
+
+
+def measure_time(points: list[tuple[Point, object]], rounds: int = 21, calls: int = 5) -> None:
+    from .timing import inputs
+    live = [(pt, fn) for pt, fn in points if pt.present]
+    args = {f: inputs(f, N) for f in {pt.func for pt, _ in live}}
+    out = np.empty(N, np.float32)
+    times: dict[str, list[float]] = {pt.key: [] for pt, _ in live}
+    for _ in range(rounds):
+        for pt, fn in live:
+            a = args[pt.func]
+            fn(*a, out=out)
+            t0 = time.perf_counter()
+            for _ in range(calls):
+                fn(*a, out=out)
+            times[pt.key].append((time.perf_counter() - t0) / calls / N * 1e9)
+    for pt, _ in live:
+        pt.ns = statistics.median(times[pt.key])
+
+
+def dominance(points: list[Point]) -> None:
+    """Mark each peer with the cheapest of our points that is at most its time and error."""
+    for p in points:
+        if p.ours or not p.present:
+            continue
+        better = [o for o in points if o.ours and o.func == p.func and o.ns <= p.ns and o.max_ulp <= p.max_ulp]
+        p.dominated_by = min(better, key=lambda o: o.ns).label if better else None
+
+
+def run(functions=FUNCS, rounds: int = 21) -> list[Point]:
+    pairs = candidates(functions)
+    measure_accuracy(pairs)
+    measure_time(pairs, rounds)
+    points = [pt for pt, _ in pairs]
+    dominance(points)
+    return points
+
+
+def table(points: list[Point]) -> str:
+    lines = ["| function | point | ns/element | max ULP-32 | not correctly rounded | dominated by |",
+             "|---|---|---|---|---|---|"]
+    for p in points:
+        if not p.present:
+            lines.append(f"| {p.func} | {p.key} | absent: {p.reason} | | | |")
+            continue
+        dom = "" if p.ours else (f"ours {p.dominated_by}" if p.dominated_by else "**not dominated**")
+        lines.append(f"| {p.func} | {p.key} | {p.ns:.3f} | {p.max_ulp:.3f} | {p.misrounded:,d} of {p.inputs:,d} "
+                     f"| {dom} |")
+    return "\n".join(lines)
+
+
+def chart(points: list[Point], path: str) -> None:
+    """Per function: time against max ULP-32 (log), our ladder joined, peers marked."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    funcs = list(dict.fromkeys(p.func for p in points))
+    fig, axes = plt.subplots(1, len(funcs), figsize=(4.2 * len(funcs), 4.2), squeeze=False)
+    markers = {"numpy": "s", "libmvec": "^", "sleef": "v", "svml": "D"}
+    for ax, func in zip(axes[0], funcs):
+        ours = sorted((p for p in points if p.ours and p.func == func and p.present), key=lambda p: p.max_ulp)
+        ax.plot([p.ns for p in ours], [max(p.max_ulp, 0.4) for p in ours], "o-", color="C0", label="ours")
+        for p in ours:
+            ax.annotate(p.label, (p.ns, max(p.max_ulp, 0.4)), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        for fam, m in markers.items():
+            ps = [p for p in points if p.family == fam and p.func == func and p.present]
+            if ps:
+                ax.scatter([p.ns for p in ps], [max(p.max_ulp, 0.4) for p in ps], marker=m, label=fam,
+                           facecolors="none" if any(p.dominated_by for p in ps) else None, edgecolors="C3")
+                for p in ps:
+                    ax.annotate(p.key.split()[-1] if fam in ("sleef", "svml") else fam, (p.ns, max(p.max_ulp, 0.4)),
+                                fontsize=6, xytext=(3, -8), textcoords="offset points", color="C3")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(func)
+        ax.set_xlabel("ns per element (64K float32, one thread)")
+        ax.set_ylabel("max ULP-32 (sample)")
+        ax.axhline(1.0, color="grey", lw=0.5, ls=":")
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
