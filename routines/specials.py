@@ -20,6 +20,7 @@ TINY = float(np.float32(1e-40))  # a subnormal
 MIN_NORMAL = 2.0 ** -126
 MAX_FLOAT = float(np.finfo(np.float32).max)
 BOTH = PRECISIONS
+ACCURATE = ("faithful", "correct")  # C99 Annex F / IEEE 754 (routines/accurate.py)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -38,7 +39,10 @@ NOTES = {
             "tolerance. Results below 2^-126 are flushed to +0: exp2 is monotone and never negative.",
     "exp": "exp(x) = exp2(x * log2(e)): thresholds follow from exp2's.",
     "log2": "Subnormal inputs are exact in both precisions (exponent extraction normalizes them).",
-    "pow": "IEEE 754 powr semantics, from exp2(y * log2(x)) with no extra code.",
+    "pow": "relaxed and full: IEEE 754 powr semantics (what GLSL's pow means), from exp2(y * log2(x)) "
+           "with no extra code. faithful: C99 Annex F pow (what NumPy's power and C's powf give): "
+           "pow(x, +-0) = 1 and pow(1, y) = 1 even for NaN, a negative base to an integer power is "
+           "signed, to a non-integer power NaN.",
     "rcp": "|x| > 2^126 gives the correctly rounded subnormal 1/x (RCP14 does not flush).",
     "sin": "Vulkan bounds sin only inside [-pi, pi]; the routine reduces every finite argument "
            "exactly (Payne-Hanek above 2^17), so it stays accurate far outside (the accuracy lab "
@@ -132,7 +136,9 @@ def _recip_rows():
           Row("sqrt", (-INF,), NAN, "-inf"), Row("sqrt", (NAN,), NAN, "NaN"), Row("sqrt", (-4.0,), NAN, "negative"),
           Row("sqrt", (4.0,), 2.0, "4"), Row("sqrt", (1.0,), 1.0, "1"),
           Row("sqrt", (2.0 ** -148,), 2.0 ** -74, "subnormal input: exact", ("full",))]
-    return r
+    # IEEE operations in the faithful and correct tiers: the same rows hold there
+    return [dataclasses.replace(row, precisions=row.precisions + ACCURATE) if row.precisions == BOTH else row
+            for row in r] + [Row("sqrt", (2.0 ** -148,), 2.0 ** -74, "subnormal input: exact", ACCURATE)]
 
 
 PIO2 = _f32(np.pi / 2)
@@ -199,7 +205,55 @@ def _trig_rows():
     return r
 
 
-ROWS: tuple[Row, ...] = tuple(_exp_rows() + _log_rows() + _pow_rows() + _recip_rows() + _trig_rows())
+def _accurate_rows():
+    """The faithful and correct tiers: C99 Annex F, subnormal results rounded, never flushed."""
+    a, sub = ACCURATE, float(2.0 ** -149)
+    r = []
+    for fn in ("exp2", "exp"):
+        r += [Row(fn, (0.0,), 1.0, "+0", a), Row(fn, (-0.0,), 1.0, "-0", a), Row(fn, (INF,), INF, "+inf", a),
+              Row(fn, (-INF,), 0.0, "-inf: +0", a), Row(fn, (NAN,), NAN, "NaN", a),
+              Row(fn, (TINY,), 1.0, "subnormal input", a), Row(fn, (1000.0,), INF, "far above overflow", a),
+              Row(fn, (-1000.0,), 0.0, "far below underflow", a)]
+    r += [Row("exp2", (-149.0,), sub, "2^-149: the least subnormal, not flushed", a),
+          Row("exp2", (-149.5,), sub, "2^-149.5 rounds up to 2^-149", a),
+          Row("exp2", (-150.0,), 0.0, "2^-150: halfway, ties to even give +0", a),
+          Row("exp2", (-126.5,), _f32(2.0 ** -126.5), "subnormal result, correctly rounded", a),
+          Row("exp2", (128.0,), INF, "overflow threshold: x >= 128", a),
+          Row("exp2", (_f32(127.99999),), _f32(2.0 ** float(np.float32(127.99999))), "just below overflow", a),
+          Row("exp", (88.72283935546875,), INF, "overflow: the least x with exp(x) >= FLT_MAX + ulp/2", a),
+          Row("exp", (88.72283172607422,), _f32(np.exp(88.72283172607422)), "largest finite result", a),
+          Row("exp", (-103.97208404541016,), 0.0, "the greatest x rounding to +0", a),
+          Row("exp", (-103.97207641601562,), sub, "the least x rounding to 2^-149", a)]
+    for fn in ("log2", "log"):
+        r += [Row(fn, (0.0,), -INF, "+0: -inf", a), Row(fn, (-0.0,), -INF, "-0: -inf", a),
+              Row(fn, (INF,), INF, "+inf", a), Row(fn, (-INF,), NAN, "-inf: NaN", a), Row(fn, (NAN,), NAN, "NaN", a),
+              Row(fn, (-1.0,), NAN, "x < 0: NaN", a), Row(fn, (1.0,), 0.0, "1: +0", a)]
+    r += [Row("log2", (sub,), -149.0, "least subnormal: -149", a),
+          Row("log", (sub,), _f32(np.log(sub)), "least subnormal", a)]
+    f = ("faithful",)
+    r += [Row("pow", (NAN, 0.0), 1.0, "NaN ^ +0 = 1", f), Row("pow", (INF, -0.0), 1.0, "+inf ^ -0 = 1", f),
+          Row("pow", (0.0, 0.0), 1.0, "+0 ^ +0 = 1", f), Row("pow", (-3.0, 0.0), 1.0, "x ^ 0 = 1", f),
+          Row("pow", (1.0, NAN), 1.0, "1 ^ NaN = 1", f), Row("pow", (1.0, INF), 1.0, "1 ^ inf = 1", f),
+          Row("pow", (-1.0, INF), 1.0, "-1 ^ +inf = 1", f), Row("pow", (-1.0, -INF), 1.0, "-1 ^ -inf = 1", f),
+          Row("pow", (0.0, -3.0), INF, "+0 ^ odd y<0 = +inf", f), Row("pow", (-0.0, -3.0), -INF, "-0 ^ odd y<0 = -inf", f),
+          Row("pow", (-0.0, -2.0), INF, "-0 ^ even y<0 = +inf", f), Row("pow", (-0.0, -INF), INF, "-0 ^ -inf = +inf", f),
+          Row("pow", (-0.0, 3.0), -0.0, "-0 ^ odd y>0 = -0", f), Row("pow", (-0.0, 2.0), 0.0, "-0 ^ even y>0 = +0", f),
+          Row("pow", (0.5, INF), 0.0, "|x| < 1 ^ +inf = +0", f), Row("pow", (-0.5, -INF), INF, "|x| < 1 ^ -inf = +inf", f),
+          Row("pow", (-2.0, INF), INF, "|x| > 1 ^ +inf = +inf", f), Row("pow", (2.0, -INF), 0.0, "|x| > 1 ^ -inf = +0", f),
+          Row("pow", (-8.0, 3.0), -512.0, "negative base, odd power: -512", f),
+          Row("pow", (-2.0, 2.0), 4.0, "negative base, even power", f),
+          Row("pow", (-2.0, 0.5), NAN, "negative base, non-integer power: NaN", f),
+          Row("pow", (-INF, 3.0), -INF, "-inf ^ odd y>0 = -inf", f), Row("pow", (-INF, -3.0), -0.0, "-inf ^ odd y<0 = -0", f),
+          Row("pow", (-INF, 2.0), INF, "-inf ^ even y>0 = +inf", f), Row("pow", (-INF, -0.5), 0.0, "-inf ^ y<0 = +0", f),
+          Row("pow", (INF, -1.0), 0.0, "+inf ^ y<0 = +0", f), Row("pow", (INF, 0.5), INF, "+inf ^ y>0 = +inf", f),
+          Row("pow", (NAN, 1.0), NAN, "NaN ^ y = NaN", f), Row("pow", (2.0, NAN), NAN, "x ^ NaN = NaN", f),
+          Row("pow", (2.0, -149.0), sub, "2 ^ -149: subnormal, not flushed", f),
+          Row("pow", (4.0, 0.5), 2.0, "4 ^ 0.5 = 2 exactly", f), Row("pow", (2.0, 128.0), INF, "overflow", f)]
+    return r
+
+
+ROWS: tuple[Row, ...] = tuple(_exp_rows() + _log_rows() + _pow_rows() + _recip_rows() + _trig_rows()
+                              + _accurate_rows())
 
 
 @dataclasses.dataclass(frozen=True)
@@ -215,6 +269,16 @@ class Rule:
 def _exp2_integers():
     k = np.arange(-126, 128, dtype=np.float32)
     return (k,), np.exp2(k.astype(np.float64)).astype(np.float32)
+
+
+def _exp2_all_integers():
+    k = np.arange(-149, 128, dtype=np.float32)
+    return (k,), np.exp2(k.astype(np.float64)).astype(np.float32)
+
+
+def _pow_two_all_integers():
+    y = np.arange(-149, 128, dtype=np.float32)
+    return (np.full_like(y, 2.0), y), np.exp2(y.astype(np.float64)).astype(np.float32)
 
 
 def _log2_powers():
@@ -262,10 +326,15 @@ def _one_near_zero():
 
 RULES: tuple[Rule, ...] = (
     Rule("exp2", "exp2(k) = 2^k exactly for every integer k in [-126, 127]", _exp2_integers),
-    Rule("log2", "log2(2^k) = k exactly for every k in [-149, 127] (subnormals included)", _log2_powers),
+    Rule("exp2", "exp2(k) = 2^k exactly for every integer k in [-149, 127] (subnormal results included)",
+         _exp2_all_integers, ACCURATE),
+    Rule("log2", "log2(2^k) = k exactly for every k in [-149, 127] (subnormals included)", _log2_powers,
+         BOTH + ACCURATE),
     Rule("pow", "pow(2, k) = 2^k exactly for every integer k in [-126, 127]", _pow_two_integers),
-    Rule("rcp", "rcp(2^k) = 2^-k exactly for k in [-126, 126]", _rcp_powers),
-    Rule("rsqrt", "rsqrt(4^k) = 2^-k exactly for k in [-63, 63]", _rsqrt_powers),
+    Rule("pow", "pow(2, k) = 2^k exactly for every integer k in [-149, 127] (subnormal results included)",
+         _pow_two_all_integers, ("faithful",)),
+    Rule("rcp", "rcp(2^k) = 2^-k exactly for k in [-126, 126]", _rcp_powers, BOTH + ACCURATE),
+    Rule("rsqrt", "rsqrt(4^k) = 2^-k exactly for k in [-63, 63]", _rsqrt_powers, BOTH + ACCURATE),
     *(Rule(fn, f"{fn}(x) = x exactly for 0 < |x| <= 2^-12 (subnormals included)", _identity_near_zero)
       for fn in ("sin", "tan", "asin", "atan", "sinh", "tanh")),
     Rule("cos", "cos(x) = 1 exactly for 0 < |x| <= 2^-12 (subnormals included)", _one_near_zero),

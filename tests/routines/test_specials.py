@@ -9,9 +9,13 @@ import numpy as np
 import pytest
 
 import routines
+from routines.base import tiers
 from routines.specials import ROWS, RULES, same
 
 VARIANTS = list(itertools.product(routines.NAMES, ("full", "relaxed"), (True, False), (1, 4, 8, 16)))
+# The faithful and correct tiers (C99 Annex F) of the routines that have them.
+VARIANTS += [(name, tier, fma, width) for name in routines.NAMES for tier in tiers(name)[2:]
+             for fma in (True, False) for width in (1, 8, 16)]
 
 
 @pytest.mark.parametrize("name,precision,fma,width", VARIANTS)
