@@ -8,7 +8,7 @@ functions called from Python) and ``kernels`` (compiled loops as NumPy ufuncs).
 """
 import typing as _typing
 
-from .build import Build, BuildOptions, Precision, Site, options
+from .build import SHADER_TIERS, Build, BuildOptions, Precision, Site, options
 from .dsl.control import Break, Continue, Elif, Else, For, If, Return, While
 from .dsl.external import External
 from .dsl.intrinsics import (
@@ -62,7 +62,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     # build settings and targets
-    "Build", "BuildOptions", "Precision", "Site", "options", "build_settings", "fma_mode", "precision", "target_features",
+    "Build", "BuildOptions", "Precision", "SHADER_TIERS", "Site", "options", "build_settings", "fma_mode", "precision", "target_features",
     "Target", "TARGETS", "get_target", "Emulator", "emulator_missing", "run_emulated", "WIDTHS", "KINDS",
     # values, types, variables, pointers
     "Value", "vector_type", "SIMD", "Pointer", "Variable", "is_variable", "set_power",

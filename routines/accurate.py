@@ -10,8 +10,11 @@ a relative error far below float32's half ULP:
               log2(x) = e + s * Q(s^2)      (Q ~ 2 atanh(s) / (s ln 2), s^2 in [0, 0.04])
     log(x):   log2(x) * ln(2)
 
-**faithful**: the float64 value (relative error ~2^-28) rounded once to float32: at most
-0.5 + 2^-4 ULP, subnormal results included (never flushed).
+**faithful**: with FMA on (in hardware, or emulated exactly at sse4), exp2 and exp run in
+float32 lanes (``_exp_float``: the linear term split exactly into a float pair, one rounding
+at the result's scale; at most 0.63 / 0.69 ULP); otherwise, and for log2, log and pow, the
+float64 value (relative error ~2^-28) rounded once to float32: at most 0.54 ULP. Subnormal
+results are rounded from float64, never flushed.
 
 **correct**: the float64 value has a relative error below 2^-49 (degree-10 and degree-7
 polynomials). It is converted from y(1 - 2^-46) and from y(1 + 2^-46): where both give the
@@ -35,13 +38,15 @@ import mpmath
 
 import reactor
 from reactor import (
-    Any, As, If, IsInf, IsNan, Precision, Round, Select, ShiftRightArithmetic, Trunc, ToInt, Variable,
+    Any, As, Fma, If, IsInf, IsNan, Precision, Round, Select, ShiftRightArithmetic, Trunc, ToInt, Variable,
     vector_type,
 )
 
 from . import doubled as dd
 from .base import DEFAULT_NAN_BITS, nan_rule
-from .polynomials import EXP2_CORRECT, EXP2_FAITHFUL, LOG2_CORRECT, LOG2_FAITHFUL
+from .polynomials import (
+    EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL,
+)
 
 #: The rounding test's relative window: above the float64 evaluation's error bound (2^-49).
 WINDOW = 2.0 ** -46
@@ -49,6 +54,9 @@ WINDOW = 2.0 ** -46
 # log2(e) = L1 + L2 + L3, L1 on 29 bits so that x * L1 is exact for a float32 x.
 LOG2E_1, LOG2E_2, LOG2E_3 = 1.442695040255785, 6.331784189566044e-10, -7.663673822123329e-27
 LN2 = (0.6931471805599453, 2.3190468138462996e-17)
+LN2_F = (0.6931471824645996, -1.9046542121259336e-09)    # ln 2 as a float32 pair
+LN2_CW = (0.693145751953125, 1.428606765330187e-06)      # ln 2: 16 bits (0x3f317200) + float32 rest
+LOG2E_F = 1.4426950216293335
 
 EXP_OVERFLOW = 88.72283935546875    # the least float32 x with exp(x) >= 2^128 - 2^103 (rounds to +inf)
 EXP_UNDERFLOW = -103.97208404541016  # the greatest float32 x with exp(x) <= 2^-150 (rounds to +0)
@@ -124,26 +132,64 @@ def _exp2_pair(k, r_hi, r_lo):
     return p[0] * s, p[1] * s
 
 
+def _fused_float() -> bool:
+    """Whether the faithful tier takes the float32 path: FMA on (in hardware or emulated exactly)."""
+    return bool(reactor.build_settings().fma)
+
+
+def _poly(poly, r, precision):
+    """A float64 polynomial: fused only in the correct tier (whose results are unique) where the
+    target has FMA; elsewhere rounded multiplies and adds, so that the faithful tier's float64
+    path gives the same bits on every target (float64 FMA cannot be emulated)."""
+    return poly.evaluate(r, precision is Precision.CORRECT and dd.fused())
+
+
+def _exp_float(x, natural):
+    """Faithful exp2/exp in float32 lanes with FMA, for results that are normal floats:
+    2^r = 1 + r ln2 + r^2 Q(r) with r ln2 split exactly (FMA) into a float pair, so that the
+    only rounding at the result's scale is the last add (e^r likewise, r = x - k ln2 exact
+    from a 16-bit ln2). Returns (p, k): the result is p * 2^k."""
+    F = vector_type("Float", x.width)
+    if natural:
+        k = Round(x * LOG2E_F)
+        r_hi = Fma(-k, LN2_CW[0], x)                     # exact: k has 8 bits, LN2_CW[0] 16
+        r_lo = k * -LN2_CW[1]
+        r = r_hi + r_lo
+        s = 1.0 + r_hi
+        tail = r_lo + (r_hi - (s - 1.0))                # 1 + r_hi = s + (r_hi - (s - 1)) exactly
+        q = EXP_FAITHFUL_F(r)
+    else:
+        k = Round(x)
+        r = x - k                                       # exact
+        a = r * LN2_F[0]
+        s = 1.0 + a
+        tail = Fma(r, LN2_F[0], -a) + (a - (s - 1.0)) + r * LN2_F[1]
+        q = EXP2_FAITHFUL_F(r)
+    p = s + Fma(r * r, q, tail)
+    return p, k
+
+
 def _exp_family(x, precision, natural):
-    """The vector path covers results that are normal floats; a NaN x flows through it (the
-    exponent insert adds nothing for a NaN k). Lanes below (subnormal or zero results, -inf)
-    and lanes that fail the rounding test take the double-double path."""
+    """The vector path covers results that are normal floats. Lanes below (subnormal or zero
+    results, -inf), NaN lanes and lanes that fail the rounding test take the double-double path."""
     F, D, I, _ = _types(x.width)
     poly = EXP2_CORRECT if precision is Precision.CORRECT else EXP2_FAITHFUL
+    if precision is Precision.FAITHFUL and _fused_float():
+        return _exp_faithful_float(x, natural)
     if natural:
         overflow, underflow, normal_from = EXP_OVERFLOW, EXP_UNDERFLOW, -86.0
         xd = D(x)
         p1 = xd * LOG2E_1                               # exact
         kd = Round(p1)
         r = (p1 - kd) + xd * LOG2E_2
-        k = F(kd)
+        f, hard = _rounded(_poly(poly, r, precision), precision, signed=False)
+        result = Variable(F, _insert_exponent(f, F(kd)))
     else:
         overflow, underflow, normal_from = 128.0, -150.0, -125.0
         k = Round(x)
-        r = D(x - k)                                    # exact
-    f, hard = _rounded(poly(r), precision, signed=False)
-    result = Variable(F, _insert_exponent(f, k))
-    below = x < normal_from
+        f, hard = _rounded(_poly(poly, D(x - k), precision), precision, signed=False)  # x - k: exact
+        result = Variable(F, _insert_exponent(f, k))
+    below = ~(x >= normal_from)                         # and NaN: quieted in the exact path
     slow = below if hard is None else below | hard
     with If(Any(slow)):
         xs = D(Select((x > underflow) & (x < overflow), x, 0.0))
@@ -160,6 +206,22 @@ def _exp_family(x, precision, natural):
         exact = Select(x <= underflow, 0.0, exact)     # -inf included
         result.set(Select(slow, Select(IsNan(x), x + x, exact), result))
     return Select(x >= overflow, float("inf"), result.value)
+
+
+def _exp_faithful_float(x, natural):
+    """The faithful tier with FMA: ``_exp_float`` for normal results; a vector with a lane
+    outside (overflow, subnormal or zero results, NaN) scales p by 2^k in two exact steps and
+    one rounding instead (p's error is far below a subnormal's ULP), or selects the special."""
+    F, D, I, _ = _types(x.width)
+    overflow, underflow, normal_from = (EXP_OVERFLOW, EXP_UNDERFLOW, -86.0) if natural else (128.0, -150.0, -125.0)
+    f, k = _exp_float(x, natural)
+    result = Variable(F, _insert_exponent(f, k))
+    slow = ~((x >= normal_from) & (x < overflow))       # NaN too
+    with If(Any(slow)):
+        scaled = As(F, As(I, f) + ((ToInt(k, saturate=False) + 64) << 23)) * 2.0 ** -64
+        special = Select(x >= overflow, F(float("inf")), Select(x <= underflow, F(0.0), scaled))
+        result.set(Select(slow, Select(IsNan(x), x + x, special), result))
+    return result.value
 
 
 def exp2(x, precision):
@@ -179,9 +241,9 @@ def _decompose(x):
     return D(e), D(u)
 
 
-def _log2_double(e, u, poly):
+def _log2_double(e, u, poly, precision):
     s = u / (u + 2.0)
-    return e + s * poly(s * s)
+    return e + s * _poly(poly, s * s, precision)
 
 
 def _log2_pair(e, u):
@@ -206,7 +268,7 @@ def _log_family(x, precision, natural):
     poly = LOG2_CORRECT if precision is Precision.CORRECT else LOG2_FAITHFUL
     normal = _positive_normal(x)
     e, u = _decompose(x)                                # garbage where not normal: replaced below
-    y = _log2_double(e, u, poly)
+    y = _log2_double(e, u, poly, precision)
     f, hard = _rounded(y * LN2[0] if natural else y, precision)
     result = Variable(F, f)
     slow = ~normal if hard is None else ~normal | hard
@@ -251,12 +313,12 @@ def pow(x, y, precision):  # noqa: A001
     subnormal = ax < 2.0 ** -126
     xs = Select(subnormal, ax * 2.0 ** 24, Select(_positive_normal(ax), ax, 1.0))
     e, u = _decompose(xs)
-    lx = _log2_double(e - Select(subnormal, D(24.0), D(0.0)), u, LOG2_CORRECT)
+    lx = _log2_double(e - Select(subnormal, D(24.0), D(0.0)), u, LOG2_CORRECT, precision)
     t = D(y) * lx
     t = Select(IsInf(t) | IsNan(t), D(0.0), t)                # zeros, infinities, NaNs: below
     t = reactor.Min(reactor.Max(t, D(-200.0)), D(200.0))      # 2^t is 0 or inf beyond
     k = Round(t)
-    core = F(EXP2_CORRECT(t - k) * _pow2(k))          # one rounding, subnormal and overflow included
+    core = F(_poly(EXP2_CORRECT, t - k, precision) * _pow2(k))  # one rounding, subnormals and overflow too
     # The cases the formula above does not give: zeros, infinities, NaNs, and the sign.
     integer, odd = _whole(y)
     log_inf = (ax == 0.0) | (ax == float("inf")) | IsInf(y)

@@ -15,8 +15,7 @@ import os
 import typing
 
 import reactor
-from reactor import As, DSLTypeError, Float, Precision, Value, fma_mode
-from reactor.build import SHADER_TIERS
+from reactor import SHADER_TIERS, As, DSLTypeError, Float, Precision, Value, fma_mode
 
 reactor.hide_frames_of(os.path.dirname(__file__))  # errors point at the caller's line
 

@@ -24,7 +24,8 @@ SPLIT = 134217729.0  # 2^27 + 1: Veltkamp's splitter for binary64
 Pair = tuple[typing.Any, typing.Any]
 
 
-def _fused() -> bool:
+def fused() -> bool:
+    """FMA on and in the target's hardware (float64 FMA has no exact emulation)."""
     settings = reactor.build_settings()
     return settings.fma is True and settings.target.has_fma
 
@@ -48,7 +49,7 @@ def _split(a) -> Pair:
 
 def two_prod(a, b) -> Pair:
     p = a * b
-    if _fused():
+    if fused():
         return p, Fma(a, b, -p)
     ah, al = _split(a)
     bh, bl = _split(b)

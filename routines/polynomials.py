@@ -57,12 +57,26 @@ class Polynomial:
 
 EXP2_FULL = Polynomial(
     name="exp2.full",
+    function="(2^x-x-1)/x", weight="(0.25*erf(1000*x)+0.75)*(2+2*abs(x))/x", interval=("-0.5", "0.5"),
+    coefficients=("0.00015319258", "0.001339585", "0.009618554", "0.055503443", "0.24022645", "-0.30685282"),
+    provenance="the variant search's best full exp2 (docs/search.md, exp2.full.rscalef.d5.erf2.retuned): "
+               "our Remez fitter (python -m routines remez -d 5 -r \"-0.5:0.5\" \"(2^x-x-1)/x\" "
+               "\"(0.25*erf(1000*x)+0.75)*(2+2*abs(x))/x\"), then one round of routines.remez.retune "
+               "against the compiled kernel's exhaustive margin (0.2519 -> 0.2349); evaluated as "
+               "2^f = (P(f) f + f) + 1 on f = x - round(x)",
+    measured="see EXP2_FULL_MEASURED",
+)
+
+EXP2_FULL_REFERENCE = Polynomial(
+    name="exp2.full.reference",
     function="(2^x-x-1)/x", weight="1/x", interval=("0", "1"),
     coefficients=("1.8852974e-3", "8.9733787e-3", "5.5835927e-2", "2.4015281e-1", "-3.0684753e-1"),
     provenance="reference write-up, section 'Gaining Significance' (LolRemez --float -d 4 -r 0:1 "
                "\"(2^x-x-1)/x\" \"1/x\"); our fitter's 8-digit p(x) line matches these digits exactly "
-               "(rounded straight to float32, one coefficient is 1 ulp away: LolRemez's double rounding)",
-    measured='exhaustive, all 2^32 inputs, compiled kernel: max margin 0.632 (FMA on) / 0.662 (off), max ULP-32 33.09 (at x = 96.76, where the tolerance is 196.5 ULP), 0 non-conforming; `python -m routines accuracy exp2 --precision full --fma on --exhaustive`'
+               "(rounded straight to float32, one coefficient is 1 ulp away: LolRemez's double rounding). "
+               "Full exp2's polynomial until the accuracy ladder adopted the search's rscalef form; the "
+               "method zoo and the search's production baseline still build it",
+    measured='exhaustive, all 2^32 inputs, compiled kernel: max margin 0.632 (FMA on) / 0.662 (off), max ULP-32 33.09 (at x = 96.76, where the tolerance is 196.5 ULP), 0 non-conforming'
 )
 
 EXP2_RELAXED = Polynomial(
@@ -76,13 +90,27 @@ EXP2_RELAXED = Polynomial(
 
 LOG2_FULL = Polynomial(
     name="log2.full",
+    function="(log2(x+1.5)-x-0.5)/((x+0.5)*(0.5-x))", weight="1/((x+0.5)*(0.5-x))", interval=("-0.5", "0.5"),
+    coefficients=("0.009136402", "-0.014875774", "0.022838062", "-0.041144915", "0.07701328", "-0.15281655",
+                  "0.33984995"),
+    provenance="the variant search's best full log2 (docs/search.md, log2.full.m1mc.d6.abs.retuned): our "
+               "Remez fitter (python -m routines remez -d 6 -r \"-0.5:0.5\" "
+               "\"(log2(x+1.5)-x-0.5)/((x+0.5)*(0.5-x))\" \"1/((x+0.5)*(0.5-x))\"), then one round of "
+               "routines.remez.retune against the compiled kernel's exhaustive margin (0.3607 -> 0.3560); "
+               "evaluated centred, u = m - 1/2: (R(u) (1/4 - u^2) + u) + (e + 1/2)",
+    measured="see LOG2_FULL_MEASURED",
+)
+
+LOG2_FULL_REFERENCE = Polynomial(
+    name="log2.full.reference",
     function="(log2(x+1)-x)/x", weight="1/x", interval=("0", "1"),
     coefficients=("-9.3091638e-3", "5.2059003e-2", "-1.3752135e-1", "2.4186478e-1",
                   "-3.4730109e-1", "4.786837e-1", "-7.2116581e-1", "4.4268988e-1"),
     provenance="reference write-up, section 'Second Try' (LolRemez --float -d 7 -r 0:1 "
                "\"(log2(x+1)-x)/x\" \"1/x\"); our fitter's 8-digit p(x) line matches these digits exactly "
-               "(rounded straight to float32, three coefficients are 1 ulp away: LolRemez's double rounding)",
-    measured='exhaustive, all 2^32 inputs: max margin 0.502 (FMA on) / 0.565 (off), 0 non-conforming, 0 special mismatches; `python -m routines accuracy log2 --precision full --fma on --exhaustive`'
+               "(rounded straight to float32, three coefficients are 1 ulp away: LolRemez's double rounding). "
+               "Full log2's polynomial until the accuracy ladder adopted the search's m1mc form",
+    measured='exhaustive, all 2^32 inputs: max margin 0.502 (FMA on) / 0.565 (off), 0 non-conforming, 0 special mismatches'
 )
 
 LOG2_RELAXED = Polynomial(
@@ -238,7 +266,8 @@ def _trig_fits():
 TRIG = (SIN_FULL, SIN_RELAXED, COS_FULL, COS_RELAXED, ATAN_FULL, ATAN_RELAXED, ASIN_FULL, ASIN_RELAXED,
         SINH_FULL, SINH_RELAXED, TANH_FULL, TANH_RELAXED, EXP_FULL, EXP_RELAXED)
 
-ALL = (EXP2_FULL, EXP2_RELAXED, LOG2_FULL, LOG2_RELAXED, LOG2_RELAXED_REFERENCE) + TRIG
+ALL = (EXP2_FULL, EXP2_FULL_REFERENCE, EXP2_RELAXED, LOG2_FULL, LOG2_FULL_REFERENCE, LOG2_RELAXED,
+       LOG2_RELAXED_REFERENCE) + TRIG
 
 
 # -- double lanes: the faithful and correct tiers (routines/accurate.py) ---------------------
@@ -259,6 +288,16 @@ class DoublePolynomial(Polynomial):
 
     def remez_command(self) -> str:
         return super().remez_command() + " --json --dps 60"
+
+    def evaluate(self, x, fused: bool):
+        """Horner's scheme in ``x``, fused (``Fma``: the caller checks the build allows it) or as
+        rounded multiplies and adds whatever the FMA setting: the same bits on every target."""
+        from reactor import Fma
+        c = self.values
+        acc = Fma(x, c[0], c[1]) if fused else x * c[0] + c[1]
+        for coeff in c[2:]:
+            acc = Fma(acc, x, coeff) if fused else acc * x + coeff
+        return acc
 
 
 _LOG2_Q = "log((1+sqrt(x))/(1-sqrt(x)))/(sqrt(x)*log(2))"
@@ -305,3 +344,24 @@ LOG2_CORRECT = DoublePolynomial(
     measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
 
 DOUBLE = (EXP2_FAITHFUL, EXP2_CORRECT, LOG2_FAITHFUL, LOG2_CORRECT)
+
+# The faithful tier's float32 path (FMA on): e^r = 1 + r + r^2 Q(r) on |r| <= ln2/2, and
+# 2^r = 1 + r ln2 + r^2 Q2(r) on |r| <= 1/2 with Q2(r) = ln2^2 Q(r ln2), the same fit rescaled
+# (coefficient of r^k times ln2^(k+2), from the exact digits, rounded once to float32).
+_EXP_Q = "(exp(x)-1-x)/x^2"
+
+EXP_FAITHFUL_F = Polynomial(
+    name="exp.faithful.float", function=_EXP_Q, weight="exp(x)/x^2",
+    interval=("-0.34657359027997264", "0.34657359027997264"),
+    coefficients=("0.0013814613", "0.00836871", "0.04166839", "0.16666521", "0.49999994"),
+    provenance="our Remez fitter: python -m routines remez -d 4 -r "
+               "\"-0.34657359027997264:0.34657359027997264\" \"(exp(x)-1-x)/x^2\" \"exp(x)/x^2\" --json "
+               "--dps 60; levelled error 3.06e-9 (relative to e^r)",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
+
+EXP2_FAITHFUL_F = Polynomial(
+    name="exp2.faithful.float", function="(2^x-1-x*log(2))/x^2", weight="2^x/x^2", interval=("-0.5", "0.5"),
+    coefficients=("0.00015321154", "0.0013390161", "0.009618526", "0.05550362", "0.24022648"),
+    provenance="exp.faithful.float's exact coefficients q_k (coefficients_exact) rescaled to "
+               "q_k ln2^(k+2) and rounded once to float32",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")

@@ -33,10 +33,11 @@ class Row:
 
 
 NOTES = {
-    "exp2": "Negative inputs closer to 0 than about 2^-25 reduce to f = x - floor(x) = 1 - 2^-24 "
-            "with floor(x) = -1 (the reference discusses this wrap-around), so full precision "
-            "returns 1 - 2^-24 there (1 ULP below 1, within tolerance) and relaxed is within its "
-            "tolerance. Results below 2^-126 are flushed to +0: exp2 is monotone and never negative.",
+    "exp2": "Full precision reduces to the nearest integer (f = x - round(x), exact) and scales "
+            "like VSCALEFPS: subnormal results are rounded, never flushed. Relaxed precision reduces "
+            "to floor(x): negative inputs closer to 0 than about 2^-25 reduce to f = 1 - 2^-24 with "
+            "floor(x) = -1 (the reference discusses this wrap-around), within its tolerance, and "
+            "results below 2^-126 are flushed to +0. Both are monotone and never negative.",
     "exp": "exp(x) = exp2(x * log2(e)): thresholds follow from exp2's.",
     "log2": "Subnormal inputs are exact in both precisions (exponent extraction normalizes them).",
     "pow": "relaxed and full: IEEE 754 powr semantics (what GLSL's pow means), from exp2(y * log2(x)) "
@@ -74,10 +75,14 @@ def _exp_rows():
         Row("exp2", (-1.0,), 0.5, "negative input"),
         Row("exp2", (128.0,), INF, "overflow threshold: x >= 128"),
         Row("exp2", (-126.0,), MIN_NORMAL, "smallest normal result"),
-        Row("exp2", (_f32(-126.0001),), 0.0, "below -126: flushed to +0"),
-        Row("exp2", (-149.0,), 0.0, "subnormal result 2^-149: flushed to +0"),
+        Row("exp2", (_f32(-126.0001),), 0.0, "below -126: flushed to +0", ("relaxed",)),
+        Row("exp2", (-149.0,), 0.0, "subnormal result 2^-149: flushed to +0", ("relaxed",)),
+        Row("exp2", (-149.0,), 2.0 ** -149, "subnormal result 2^-149: not flushed", ("full",)),
+        Row("exp2", (-150.0,), 0.0, "2^-150: halfway, ties to even give +0", ("full",)),
+        Row("exp2", (-126.5,), _f32(_f32(2.0 ** 0.5) * 2.0 ** -127), "subnormal result, rounded once", ("full",)),
         Row("exp", (89.0,), INF, "overflow: x > 88.7228 (ln FLT_MAX)"),
-        Row("exp", (-88.0,), 0.0, "below -87.3365 (ln 2^-126): flushed to +0"),
+        Row("exp", (-88.0,), 0.0, "below -87.3365 (ln 2^-126): flushed to +0", ("relaxed",)),
+        Row("exp", (-110.0,), 0.0, "below -103.97 (2^-150): +0", ("full",)),
     ]
     return rows
 
@@ -327,7 +332,7 @@ def _one_near_zero():
 RULES: tuple[Rule, ...] = (
     Rule("exp2", "exp2(k) = 2^k exactly for every integer k in [-126, 127]", _exp2_integers),
     Rule("exp2", "exp2(k) = 2^k exactly for every integer k in [-149, 127] (subnormal results included)",
-         _exp2_all_integers, ACCURATE),
+         _exp2_all_integers, ("full",) + ACCURATE),
     Rule("log2", "log2(2^k) = k exactly for every k in [-149, 127] (subnormals included)", _log2_powers,
          BOTH + ACCURATE),
     Rule("pow", "pow(2, k) = 2^k exactly for every integer k in [-126, 127]", _pow_two_integers),

@@ -158,8 +158,8 @@ def _task(span):
 
 def _pow_task(task):
     k, y = task
-    from .pairs import _x_stratum
-    x = _x_stratum(k, 0)
+    from .pairs import x_stratum
+    x = x_stratum(k, 0)
     return score(_WORKER["ufunc"], "pow", _WORKER["variant"], x, np.full(x.size, y, np.uint32))
 
 

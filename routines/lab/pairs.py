@@ -73,7 +73,7 @@ def atan2_strata(seed: int = 0) -> np.ndarray:
 STRATA_OF = {"pow": y_strata, "atan2": atan2_strata}
 
 
-def _x_stratum(k: int, seed: int) -> np.ndarray:
+def x_stratum(k: int, seed: int) -> np.ndarray:
     offset = int(np.random.default_rng((seed, k)).integers(0, X_STRIDE))
     return np.arange(offset, 2**32, X_STRIDE, dtype=np.uint64).astype(np.uint32)
 
@@ -87,7 +87,7 @@ def _init(ufunc, func, precision, seed):
 
 def _stratum(task):
     k, y_bits = task
-    x = _x_stratum(k, _WORKER["seed"])
+    x = x_stratum(k, _WORKER["seed"])
     return evaluate(_WORKER["ufunc"], _WORKER["func"], _WORKER["precision"], x,
                     np.full(x.size, y_bits, np.uint32))
 

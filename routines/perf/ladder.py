@@ -49,10 +49,10 @@ def sample(func: str) -> tuple[np.ndarray, np.ndarray | None]:
     if func != "pow":
         return np.arange(0, 2 ** 32, SAMPLE_STRIDE, dtype=np.uint64).astype(np.uint32), None
     from ..lab.ladder import pow_hard_cases
-    from ..lab.pairs import _x_stratum, y_strata
+    from ..lab.pairs import x_stratum, y_strata
     xs, ys = [pow_hard_cases()[0]], [pow_hard_cases()[1]]
     for k, y in list(enumerate(y_strata(0)))[::16]:
-        x = _x_stratum(k, 0)[::16]
+        x = x_stratum(k, 0)[::16]
         xs.append(x)
         ys.append(np.full(x.size, y, np.uint32))
     return np.concatenate(xs), np.concatenate(ys)

@@ -411,8 +411,8 @@ def production(function: str, precision: str, fma: bool = True) -> Candidate:
     from .. import polynomials as P
     poly = {("exp2", "full"): P.EXP2_FULL, ("exp2", "relaxed"): P.EXP2_RELAXED,
             ("log2", "full"): P.LOG2_FULL, ("log2", "relaxed"): P.LOG2_RELAXED}[(function, precision)]
-    form = {("exp2", "full"): "additive", ("exp2", "relaxed"): "additive",
-            ("log2", "full"): "m", ("log2", "relaxed"): "m1m"}[(function, precision)]
+    form = {("exp2", "full"): "rscalef", ("exp2", "relaxed"): "additive",
+            ("log2", "full"): "m1mc", ("log2", "relaxed"): "m1m"}[(function, precision)]
     return Candidate(function, precision, form, poly.degree, "", tuple(poly.coefficients), fma,
                      provenance=f"routines.polynomials.{poly.name}: {poly.provenance}",
                      tag="production", production=True,

@@ -134,7 +134,7 @@ def test_model_classes_share_pipes():
 
 
 def test_the_model_takes_the_blocks_every_iteration_runs():
-    """exp2's loop is one block; sin's has an If(Any(|x| > 2^17)) block (Payne-Hanek) that
+    """exp2's loop is one block with AVX-512; sin's has an If(Any(|x| > 2^17)) block (Payne-Hanek) that
     typical arguments never enter: the model and the window bound leave it out."""
     import llvmlite.binding as llvm
 
@@ -142,7 +142,8 @@ def test_the_model_takes_the_blocks_every_iteration_runs():
     import routines
     # without AVX-512, log2 (and so pow) has a cold block too: the general Exponent/Significand path
     portable_log2 = "avx512f" not in reactor.get_target().feature_set
-    for name, skipped in (("exp2", False), ("pow", portable_log2), ("sin", True), ("tan", True),
+    # and exp2 one for subnormal results (VSCALEFPS rounds them in one instruction)
+    for name, skipped in (("exp2", portable_log2), ("pow", portable_log2), ("sin", True), ("tan", True),
                           ("asin", False), ("log2", portable_log2)):
         k = reactor.kernel_of(routines.jit(name, "full", True))
         fn = llvm.parse_assembly(k.optimized_ir).get_function(f"{k.name}.loop")

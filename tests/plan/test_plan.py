@@ -78,7 +78,9 @@ def test_sampled_domains_say_so_and_are_checked_twice():
     assert p.proof == "sample" and p.checked > 40000
     assert "sampled" in p.domain and "neighbours" in p.domain
     exp2 = [r for r in p.reports if r.routine == "exp2"][0]
-    assert exp2.tier == "relaxed"  # exp2 of the whole numbers 1 and 2 is exact at every tier
+    # exp2 of the whole numbers 1 and 2 is exact at every tier: relaxed changes nothing (it is kept
+    # at full only where relaxed saves no modelled cycles: the portable full exp2 is as cheap)
+    assert exp2.tier == "relaxed" or exp2.below_changes == 0
 
 
 def test_joint_rows_and_tolerances():
@@ -87,7 +89,8 @@ def test_joint_rows_and_tolerances():
     p = reactor.plan(scaled, inputs={"rows": rows}, output={"ulp": 0}, timing_rows=1 << 14)
     assert p.proof == "exhaustive" and p.checked == 5000
     loose = reactor.plan(scaled, inputs={"rows": rows}, output={"abs": 0.01}, timing_rows=1 << 14)
-    assert all(r.tier == "relaxed" for r in loose.reports)
+    assert all(r.tier == "relaxed" or r.below_changes == 0 for r in loose.reports)
+    assert any(r.tier == "relaxed" for r in loose.reports)
 
 
 def test_output_formats_round_like_glsl():

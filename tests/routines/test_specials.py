@@ -51,7 +51,11 @@ def test_exp2_is_monotone_and_never_negative_through_underflow():
         y = routines.jit("exp2", precision, fma)(x)
         assert (y >= 0).all() and not np.signbit(y).any()
         assert (np.diff(y.astype(np.float64)) >= 0).all()
-        assert (y[x < -126] == 0).all()
+        if precision == "relaxed":  # full rounds subnormal results (VSCALEFPS's rounding)
+            assert (y[x < -126] == 0).all()
+        else:
+            want = np.exp2(x.astype(np.float64)).astype(np.float32)
+            assert (np.abs(y - want) <= 2.0 ** -149)[x < -126].all()
 
 
 def test_docs_specials_is_generated_from_the_table():

@@ -1,0 +1,135 @@
+"""The faithful and correct tiers (routines/accurate.py, routines/doubled.py) on the compiled
+kernels: correct rounding against the lab's correctly rounded reference, faithfulness, NaN
+bits, the FMA toggle, the same bits on every x86 level, and the refusals of routines
+without these tiers. The exhaustive proofs are ``python -m routines ladder --exhaustive``."""
+import itertools
+
+import mpmath
+import numpy as np
+import pytest
+
+import reactor
+import routines
+from routines.base import tiers
+from routines.lab import ladder
+from routines.polynomials import DOUBLE
+
+CORRECT = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt")
+#: every 65537th bit pattern (all binades and signs), plus the regions where rounding is hard
+SAMPLE = np.arange(0, 2 ** 32, 65537, dtype=np.uint64).astype(np.uint32)
+
+
+def _region(lo: float, hi: float, n: int = 1 << 16) -> np.ndarray:
+    a, b = np.float32(lo).view(np.int32), np.float32(hi).view(np.int32)
+    return np.linspace(min(a, b), max(a, b), n).astype(np.int32).view(np.uint32)
+
+
+HARD = {
+    "exp2": [(-150.0, -125.0), (-1e-6, 1e-6), (127.0, 128.0)],
+    "exp": [(-104.0, -86.0), (-1e-6, 1e-6), (88.0, 88.8)],
+    "log2": [(0.99, 1.01), (1e-45, 1e-37), (1.4, 1.6)],
+    "log": [(0.99, 1.01), (1e-45, 1e-37), (3e38, 3.4e38)],
+}
+
+
+def _inputs(func):
+    return np.concatenate([SAMPLE] + [_region(*r) for r in HARD.get(func, [])])
+
+
+@pytest.mark.parametrize("fma", [True, False])
+@pytest.mark.parametrize("func", CORRECT)
+def test_correct_tier_is_correctly_rounded(func, fma):
+    r = ladder.score(routines.jit(func, "correct", fma=fma), func, "correct", _inputs(func))
+    assert r.misrounded == 0, r.examples
+    assert r.max_ulp <= 0.5 + 1e-9
+
+
+@pytest.mark.parametrize("fma", [True, False])
+@pytest.mark.parametrize("func", ("exp2", "exp", "log2", "log", "rsqrt"))
+def test_faithful_tier_is_below_one_ulp(func, fma):
+    r = ladder.score(routines.jit(func, "faithful", fma=fma), func, "faithful", _inputs(func))
+    assert r.max_ulp < 1.0, (r.max_ulp, r.max_ulp_at)
+
+
+def test_faithful_pow_on_its_hard_pairs_and_a_stratum():
+    u = routines.jit("pow", "faithful")
+    r = ladder.score(u, "pow", "faithful", *ladder.pow_hard_cases())
+    assert r.max_ulp < 0.6, r.examples
+    x = SAMPLE
+    for y in (0.5, -1.5, 3.0, 2.2, -40.0, 117.3):
+        r = ladder.score(u, "pow", "faithful", x, np.full(x.size, np.float32(y).view(np.uint32)))
+        assert r.max_ulp < 0.6, (y, r.max_ulp_at)
+
+
+@pytest.mark.parametrize("func", ("exp2", "exp", "log2", "log"))
+@pytest.mark.parametrize("tier", ("faithful", "correct"))
+def test_nan_inputs_come_back_quieted(func, tier):
+    payloads = np.array([0x7FC00001, 0xFFC12345, 0x7F800001, 0xFF812345], np.uint32)
+    got = routines.jit(func, tier)(payloads.view(np.float32)).view(np.uint32)
+    assert (got == (payloads | 0x00400000)).all(), [hex(v) for v in got]
+
+
+@pytest.mark.parametrize("func", ("exp2", "log"))
+def test_fma_off_emits_no_fused_operation(func):
+    for tier in ("faithful", "correct"):
+        asm = reactor.kernel_of(routines.jit(func, tier, fma=False)).assembly
+        assert "vfmadd" not in asm and "vfmsub" not in asm and "vfnmadd" not in asm
+
+
+@pytest.mark.parametrize("func", ("exp2", "exp", "log2", "log"))
+def test_the_same_bits_at_every_x86_level(func):
+    """Correctly rounded results are unique; the faithful tier's float32 path (FMA on, emulated
+    exactly at sse4) and float64 path (FMA off: rounded multiplies and adds) are the same code
+    everywhere."""
+    x = _inputs(func).view(np.float32)
+    host = reactor.get_target("host").feature_set
+    for tier, fma in itertools.product(("faithful", "correct"), (True, False)):
+        want = routines.jit(func, tier, fma=fma)(x).view(np.uint32)
+        for target in ("avx2", "sse4"):
+            if target == "avx2" and "avx2" not in host:
+                continue
+            emulated = "emulate" if fma and target == "sse4" else fma
+            got = routines.jit(func, tier, fma=emulated, target=target)(x).view(np.uint32)
+            assert (got == want).all(), (func, tier, fma, target)
+
+
+def test_routines_without_a_tier_refuse_it_clearly():
+    with pytest.raises(reactor.ReactorError, match="sin has no 'faithful' precision; its precisions are "
+                                                   "'relaxed', 'full'"):
+        routines.jit("sin", "faithful")
+    with pytest.raises(reactor.ReactorError, match="pow has no 'correct' precision"):
+        routines.jit("pow", "correct")
+    assert tiers("exp2") == ("relaxed", "full", "faithful", "correct")
+
+
+def test_a_kernel_can_ask_for_a_tier():
+    @reactor.kernel(precision="correct")
+    def softplus_base2(x: reactor.Float) -> reactor.Float:
+        return routines.log2(1.0 + routines.exp2(x))
+
+    x = np.linspace(-20, 20, 1001, dtype=np.float32)
+    with np.errstate(all="ignore"):
+        inner = np.float32(1) + np.exp2(x.astype(np.float64)).astype(np.float32)
+    want = np.log2(inner.astype(np.float64)).astype(np.float32)
+    assert (softplus_base2(x) == want).all()
+
+
+@pytest.mark.parametrize("poly", DOUBLE, ids=lambda p: p.name)
+def test_double_polynomials_meet_their_stated_error(poly):
+    """Each binary64 polynomial's relative error, measured with mpmath on a dense grid, is
+    within 1% of the levelled error its provenance states (after rounding to binary64)."""
+    stated = float(poly.provenance.split("levelled error ")[1].split(" ")[0])
+    lo, hi = (float(v) for v in poly.interval)
+    f = {"2^x": lambda v: mpmath.power(2, v)}.get(poly.function)
+    if f is None:  # Q(z) = 2 atanh(sqrt z) / (sqrt z ln 2)
+        def f(z):
+            s = mpmath.sqrt(z)
+            return 2 * mpmath.atanh(s) / (s * mpmath.log(2))
+    worst = mpmath.mpf(0)
+    with mpmath.workdps(40):
+        for v in np.linspace(lo, hi, 801)[1:]:
+            p = mpmath.mpf(0)
+            for c in poly.values:
+                p = p * mpmath.mpf(float(v)) + mpmath.mpf(c)
+            worst = max(worst, abs(p / f(mpmath.mpf(float(v))) - 1))
+    assert float(worst) <= stated * 1.5 + 2 ** -52, (float(worst), stated)
