@@ -32,13 +32,22 @@ _MP = {"exp2": lambda v: mpmath.power(2, v), "exp": mpmath.exp, "log2": lambda v
        "log": mpmath.log, "rcp": lambda v: 1 / v, "rsqrt": lambda v: 1 / mpmath.sqrt(v),
        "sqrt": mpmath.sqrt, "pow": mpmath.power}
 _LOW29 = np.uint64((1 << 29) - 1)
+_MID_MINUS_NEAR = np.uint64((1 << 28) - (1 << 13))
+_NEAR2 = np.uint64(1 << 14)
+_NO_SIGN = np.uint64((1 << 63) - 1)
+_MIN_NORMAL64 = np.float64(2.0 ** -126).view(np.uint64)
 
 
 def c99_reference(func: str, x: np.ndarray, y: np.ndarray | None = None) -> np.ndarray:
-    """float64 ``func(x)`` (pow: C99's pow(x, y), NumPy's float64 power)."""
+    """float64 ``func(x)`` (pow: C99's pow(x, y), NumPy's float64 power). log2 is ln(x) / ln(2)
+    (relative error below 2^-51, 3x faster than NumPy's float64 log2 here)."""
     if func == "pow":
         with np.errstate(all="ignore"):
             return np.power(x.astype(np.float64), y.astype(np.float64))
+    if func == "log2":
+        with np.errstate(all="ignore"):
+            out = np.log(x, dtype=np.float64)
+            return np.multiply(out, 1.4426950408889634, out=out)
     return reference(func, x)
 
 
@@ -52,19 +61,22 @@ def correctly_rounded(func: str, x: np.ndarray, ref: np.ndarray | None = None,
     ref = c99_reference(func, x, y) if ref is None else ref
     with np.errstate(all="ignore"):
         r = ref.astype(np.float32)
-        a = np.abs(ref)
-        rem = (ref.view(np.uint64) & _LOW29).astype(np.int64) - (1 << 28)
-        near = (a >= 2.0 ** -126) & (a < 2.0 ** 128) & (np.abs(rem) <= 1 << 13)
-        tiny = np.flatnonzero((a < 2.0 ** -126) & (a > 0))
-        t = a[tiny] * 2.0 ** 149
-        near[tiny[np.abs(t - np.floor(t) - 0.5) <= NEAR * np.maximum(t, 1.0)]] = True
-    where = np.flatnonzero(near)
-    if where.size:
+        bits = ref.view(np.uint64)
+        low = np.bitwise_and(bits - _MID_MINUS_NEAR, _LOW29)          # |low29 - 2^28| <= 2^13
+        candidates = np.flatnonzero(np.less_equal(low, _NEAR2, out=np.empty(low.shape, bool)))
+        a = np.abs(ref[candidates])
+        near = list(candidates[(a >= 2.0 ** -126) & (a < 2.0 ** 128)])
+        magnitude = np.bitwise_and(bits, _NO_SIGN, out=low)
+        tiny = np.flatnonzero((magnitude < _MIN_NORMAL64) & (magnitude > 0))
+        if tiny.size:
+            t = np.abs(ref[tiny]) * 2.0 ** 149
+            near += list(tiny[np.abs(t - np.floor(t) - 0.5) <= NEAR * np.maximum(t, 1.0)])
+    if near:
         exact = _MP[func]
         with mpmath.workdps(50):
-            for i in where:
+            for i in near:
                 r[i] = _decide(exact, x[i] if y is None else (x[i], y[i]), float(ref[i]))
-    return r, int(where.size)
+    return r, len(near)
 
 
 def _decide(exact, args, ref: float) -> np.float32:

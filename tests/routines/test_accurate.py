@@ -133,3 +133,28 @@ def test_double_polynomials_meet_their_stated_error(poly):
                 p = p * mpmath.mpf(float(v)) + mpmath.mpf(c)
             worst = max(worst, abs(p / f(mpmath.mpf(float(v))) - 1))
     assert float(worst) <= stated * 1.5 + 2 ** -52, (float(worst), stated)
+
+
+@pytest.mark.parametrize("func", CORRECT)
+def test_the_labs_correctly_rounded_reference_agrees_with_mpmath(func):
+    """The reference the exhaustive proof trusts: float64 rounded, mpmath near midpoints."""
+    rng = np.random.default_rng(5)
+    x = np.concatenate([_inputs(func)[::97], rng.integers(0, 2 ** 32, 3000, dtype=np.uint64).astype(np.uint32)])
+    x = x.view(np.float32)
+    got, _ = ladder.correctly_rounded(func, x)
+    f = {"exp2": lambda v: mpmath.power(2, v), "exp": mpmath.exp, "log2": lambda v: mpmath.log(v, 2),
+         "log": mpmath.log, "rcp": lambda v: 1 / v, "rsqrt": lambda v: 1 / mpmath.sqrt(v), "sqrt": mpmath.sqrt}[func]
+    checked = 0
+    with mpmath.workprec(24):
+        for xi, gi in zip(x, got):
+            v = float(xi)
+            if not np.isfinite(v) or (v <= 0 and func not in ("exp2", "exp", "rcp")) or v == 0:
+                continue
+            with mpmath.workprec(200):
+                exact = f(mpmath.mpf(v))
+            if not (2.0 ** -126 <= abs(exact) < 2.0 ** 128):
+                continue
+            want = np.float32(float(+exact))  # unary plus rounds to the context's 24 bits, to nearest
+            assert gi == want, (func, v, gi, want)
+            checked += 1
+    assert checked > 1000
