@@ -10,11 +10,11 @@ a relative error far below float32's half ULP:
               log2(x) = e + s * Q(s^2)      (Q ~ 2 atanh(s) / (s ln 2), s^2 in [0, 0.04])
     log(x):   log2(x) * ln(2)
 
-**faithful**: with FMA on (in hardware, or emulated exactly at sse4), exp2 and exp run in
-float32 lanes (``_exp_float``: the linear term split exactly into a float pair, one rounding
-at the result's scale; at most 0.63 / 0.69 ULP); otherwise, and for log2, log and pow, the
-float64 value (relative error ~2^-28) rounded once to float32: at most 0.54 ULP. Subnormal
-results are rounded from float64, never flushed.
+**faithful**: with FMA on (in hardware, or emulated exactly at sse4), exp2, exp and log run
+in float32 lanes (``_exp_float``, ``_log_float``: the linear term split exactly into a float
+pair, one rounding at the result's scale; below 0.77 / 0.69 / 0.85 ULP); otherwise, and for
+log2 and pow, the float64 value (relative error ~2^-28) rounded once to float32: below
+0.54 ULP. Subnormal results are rounded, never flushed.
 
 **correct**: the float64 value has a relative error below 2^-49 (degree-10 and degree-7
 polynomials). It is converted from y(1 - 2^-46) and from y(1 + 2^-46): where both give the
@@ -45,7 +45,8 @@ from reactor import (
 from . import doubled as dd
 from .base import DEFAULT_NAN_BITS, nan_rule
 from .polynomials import (
-    EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL,
+    EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL, LOG2_FAITHFUL_F,
+    LOG_FAITHFUL_F,
 )
 
 #: The rounding test's relative window: above the float64 evaluation's error bound (2^-49).
@@ -57,6 +58,7 @@ LN2 = (0.6931471805599453, 2.3190468138462996e-17)
 LN2_F = (0.6931471824645996, -1.9046542121259336e-09)    # ln 2 as a float32 pair
 LN2_CW = (0.693145751953125, 1.428606765330187e-06)      # ln 2: 16 bits (0x3f317200) + float32 rest
 LOG2E_F = 1.4426950216293335
+LOG2E_PAIR = (1.4426950216293335, 1.925963033500011e-08)  # 1/ln 2 as a float32 pair
 
 EXP_OVERFLOW = 88.72283935546875    # the least float32 x with exp(x) >= 2^128 - 2^103 (rounds to +inf)
 EXP_UNDERFLOW = -103.97208404541016  # the greatest float32 x with exp(x) <= 2^-150 (rounds to +0)
@@ -263,8 +265,52 @@ def _positive_normal(x):
     return As(U, As(I, x) - _MIN_NORMAL_BITS) < U(_INF_BITS - _MIN_NORMAL_BITS)
 
 
+def _log_float(x, natural, offset=None):
+    """Faithful log2/log in float32 lanes with FMA, for a positive normal x = 2^e (1 + u),
+    m = 1 + u in [sqrt(1/2), sqrt(2)): log2 = e + u/ln2 + u^2 Q(u), the product u/ln2 exact as
+    a float pair (FMA) and e + its high part summed exactly, so the one rounding at the
+    result's scale is the last add (log: e ln2 from a 16-bit ln 2, u exact). ``offset`` is
+    subtracted from e (a subnormal's 24, after scaling by 2^24)."""
+    F, _, I, _ = _types(x.width)
+    bits = As(I, x)
+    n = ShiftRightArithmetic(bits - 0x3F3504F3, 23)      # m in [sqrt(1/2), sqrt(2))
+    u = As(F, bits - (n << 23)) - 1.0                    # exact (Sterbenz)
+    e = F(n) if offset is None else F(n) - offset
+    if natural:
+        a = Fma(e, LN2_CW[0], u)                         # exact: e ln2_hi has 24 bits and a <= 0.5 + e ln2
+        lo = u - (a - e * LN2_CW[0])                     # what the add lost (0 where exact)
+        tail = Fma(e, LN2_CW[1], lo)
+        return a + Fma(u, u * LOG_FAITHFUL_F(u), tail)
+    h = u * LOG2E_PAIR[0]
+    tail = Fma(u, LOG2E_PAIR[1], Fma(u, LOG2E_PAIR[0], -h))
+    s = e + h
+    tail = tail + (h - (s - e))                          # e + h = s + (h - (s - e)) exactly: |e| >= |h| or e = 0
+    return s + Fma(u, u * LOG2_FAITHFUL_F(u), tail)
+
+
+def _log_faithful_float(x, natural):
+    """The faithful tier with FMA: ``_log_float``; a vector with a lane that is not a positive
+    normal float normalizes subnormals (x 2^24, exact) and selects the specials."""
+    F, _, I, _ = _types(x.width)
+    normal = _positive_normal(x)
+    result = Variable(F, _log_float(x, natural))
+    with If(Any(~normal)):
+        subnormal = (x > 0.0) & (x < 2.0 ** -126)
+        scaled = _log_float(Select(subnormal, x * 2.0 ** 24, Select(normal, x, 1.0)), natural,
+                            Select(subnormal, F(24.0), F(0.0)))
+        special = Select(x == 0.0, F(float("-inf")), As(F, I(DEFAULT_NAN_BITS)))   # +-0; x < 0
+        special = Select(x == float("inf"), x, special)
+        special = Select(IsNan(x), x + x, special)
+        result.set(Select(normal, result, Select(subnormal, scaled, special)))
+    return result.value
+
+
 def _log_family(x, precision, natural):
     F, D, I, _ = _types(x.width)
+    if precision is Precision.FAITHFUL and natural and _fused_float():
+        # log2 stays in float64: its float32 form (_log_float) errs by up to 1.04 ULP near
+        # x = 1.4, the product by 1/ln 2 costing what log's exact leading term u does not
+        return _log_faithful_float(x, natural)
     poly = LOG2_CORRECT if precision is Precision.CORRECT else LOG2_FAITHFUL
     normal = _positive_normal(x)
     e, u = _decompose(x)                                # garbage where not normal: replaced below

@@ -365,3 +365,28 @@ EXP2_FAITHFUL_F = Polynomial(
     provenance="exp.faithful.float's exact coefficients q_k (coefficients_exact) rescaled to "
                "q_k ln2^(k+2) and rounded once to float32",
     measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
+
+
+_LOG2_Q = "(log(1+x)/log(2)-x/log(2))/x^2"
+_LN_Q = "(log(1+x)-x)/x^2"
+
+LOG2_FAITHFUL_F = Polynomial(
+    name="log2.faithful.float", function=_LOG2_Q, weight="abs(log(1+x)/log(2))/x^2",
+    interval=("-0.29289321881345254", "0.41421356237309515"),
+    coefficients=("-0.10995901", "0.18617162", "-0.19105592", "0.20460048", "-0.2396184", "0.28856748",
+                  "-0.36069658", "0.48089823", "-0.72134733"),
+    provenance="our Remez fitter, relative error of log2(1+u) = u/ln2 + u^2 Q(u), u = m - 1 with m in "
+               "[sqrt(1/2), sqrt(2)) (so that e + log2(m) never cancels by more than half): python -m routines "
+               f"remez -d 8 -r \"-0.29289321881345254:0.41421356237309515\" \"{_LOG2_Q}\" "
+               "\"abs(log(1+x)/log(2))/x^2\" --json --dps 60; levelled error 4.09e-9 (2^-27.9)",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
+
+LOG_FAITHFUL_F = Polynomial(
+    name="log.faithful.float", function=_LN_Q, weight="abs(log(1+x))/x^2",
+    interval=("-0.29289321881345254", "0.41421356237309515"),
+    coefficients=("-0.07621778", "0.12904432", "-0.13242988", "0.14181826", "-0.16609083", "0.20001973",
+                  "-0.25001583", "0.33333325", "-0.49999988"),
+    provenance="our Remez fitter, relative error of log(1+u) = u + u^2 Q(u), m in [sqrt(1/2), sqrt(2)): "
+               "python -m routines remez -d 8 -r \"-0.29289321881345254:0.41421356237309515\" "
+               f"\"{_LN_Q}\" \"abs(log(1+x))/x^2\" --json --dps 60; levelled error 4.09e-9",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")

@@ -8,8 +8,10 @@ glibc libmvec, SLEEF, numba where installed),
 measures their accuracy (the lab's sample by default, every input with
 ``--exhaustive``) and their speed (L1, L2 and DRAM sizes, one thread, and two
 threads at the DRAM size; the clock calibrated in the same run), models
-every variant's loop, writes ``DIR/report.json`` (every figure) and prints
-the table and the targets, then draws ``DIR/chart.png``/``.svg`` (cost vs
+every variant's loop, measures the accuracy ladder (``routines.perf.ladder``: every tier
+of exp2, exp, log2, log and pow beside every peer, with which peer each of our points
+dominates), writes ``DIR/report.json`` (every figure) and prints
+the tables and the targets, then draws ``DIR/ladder.png`` (the ladder), ``DIR/chart.png``/``.svg`` (cost vs
 max ULP) and ``DIR/chart-margin.png``/``.svg`` (cost vs margin). The chart
 needs matplotlib (``pip install "reactor-simd[plot]"``); without it the command
 says so in one line and still succeeds. Progress goes to stderr. See
@@ -73,6 +75,14 @@ def main(argv: list[str]) -> int:
     result["chart"] = []
     _write_json(result, json_path)  # the figures first: the chart is optional and drawn last
     print(report.print_table(result), flush=True)
+    from ..perf import ladder
+    points = ladder.from_json(result["ladder"])
+    if points:
+        print("\nThe accuracy ladder (relaxed, full, faithful, correct) beside every peer: "
+              "max ULP-32 on a sample of every binade, ns per element at 64K, one thread\n")
+        print(ladder.table(points))
+        print("\nPeers dominated (a point of ours at most their time and at most their max ULP):")
+        print("\n".join("  " + line for line in ladder.statements(points)), flush=True)
     missing = chart.missing_matplotlib()
     if missing:
         print(f"{missing}; then `python -m routines chart --out {args.out} [--error margin]` "
@@ -85,6 +95,9 @@ def main(argv: list[str]) -> int:
         paths += chart.draw(panels, os.path.join(args.out, name), error=error,
                             title=f"cost vs {'max ULP-32' if error == 'ulp' else 'max margin'} "
                                   f"({result['machine'].get('llvm_cpu')}, {result['clock']['ghz']:.2f} GHz)")
+    if points:
+        ladder.chart(points, os.path.join(args.out, "ladder.png"))
+        paths.append(os.path.join(args.out, "ladder.png"))
     result["chart"] = paths
     _write_json(result, json_path)  # again, now listing the chart's files
     print(f"\nwrote {json_path}, " + ", ".join(paths), file=sys.stderr)

@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 
-from ..base import PRECISIONS
+from ..base import LADDER, PRECISIONS, tiers
 from .fingerprint import pow_inputs, unary_inputs
 from .reference import BINARY
 
@@ -66,8 +66,9 @@ def _strided(args):
 
 
 def variants(functions, precisions=PRECISIONS):
+    """(name, precision, fma) of every variant asked for; a tier a routine lacks is skipped."""
     for name in functions:
-        for precision in precisions:
+        for precision in (p for p in precisions if p in tiers(name)):
             for fma in (True, False):
                 yield name, precision, fma
 
@@ -178,8 +179,9 @@ def main(argv=None) -> int:
     parser.add_argument("--reference", default="host", choices=reactor.TARGETS, help="default: host")
     parser.add_argument("--functions", nargs="+", choices=NAMES, metavar="F", default=list(NAMES),
                         help="default: every routine")
-    parser.add_argument("--precisions", nargs="+", choices=PRECISIONS, default=list(PRECISIONS), metavar="P",
-                        help="default: " + " ".join(PRECISIONS))
+    parser.add_argument("--precisions", nargs="+", choices=LADDER, default=list(PRECISIONS), metavar="P",
+                        help="any of " + " ".join(LADDER) + " (a tier a routine lacks is skipped); default: "
+                             + " ".join(PRECISIONS))
     parser.add_argument("--n", type=int, default=2 ** 20, help="inputs per variant (default 2^20)")
     parser.add_argument("--exhaustive", action="store_true",
                         help="every 2^32 input of the unary variants (x86 targets this CPU runs)")

@@ -115,12 +115,44 @@ def dominance(points: list[Point]) -> None:
 
 
 def run(functions=FUNCS, rounds: int = 21) -> list[Point]:
-    pairs = candidates(functions)
+    """Every point of ``functions`` (those of :data:`FUNCS`), measured, peers marked."""
+    pairs = candidates([f for f in functions if f in FUNCS])
     measure_accuracy(pairs)
     measure_time(pairs, rounds)
     points = [pt for pt, _ in pairs]
     dominance(points)
     return points
+
+
+def statements(points: list[Point]) -> list[str]:
+    """One line per peer: dominated by which of our points, or not (and why not)."""
+    out = []
+    for p in points:
+        if p.ours:
+            continue
+        if not p.present:
+            out.append(f"{p.key}: absent ({p.reason})")
+            continue
+        head = f"{p.key} ({p.max_ulp:.3g} ULP, {p.ns:.3f} ns)"
+        if p.dominated_by:
+            o = next(o for o in points if o.ours and o.func == p.func and o.label == p.dominated_by)
+            out.append(f"{head}: dominated by ours {o.label} ({o.max_ulp:.3g} ULP, {o.ns:.3f} ns)")
+            continue
+        ours = [o for o in points if o.ours and o.func == p.func and o.present]
+        as_good = [o for o in ours if o.max_ulp <= p.max_ulp]
+        why = (f"ours {min(as_good, key=lambda o: o.ns).label} is as accurate "
+               f"({min(as_good, key=lambda o: o.ns).max_ulp:.3g} ULP) but takes "
+               f"{min(o.ns for o in as_good) / p.ns:.2f}x its time") if as_good else "no point of ours is as accurate"
+        out.append(f"{head}: NOT dominated: {why}")
+    return out
+
+
+def to_json(points: list[Point]) -> list[dict]:
+    return [dataclasses.asdict(p) for p in points]
+
+
+def from_json(rows: list[dict]) -> list[Point]:
+    return [Point(**r) for r in rows]
 
 
 def table(points: list[Point]) -> str:

@@ -90,6 +90,12 @@ def run(functions=DEFAULT_FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20
 
     attach_gaps(variants, floors, state)
 
+    t = time.perf_counter()
+    from .. import ladder
+    steps = [f for f in functions if f in ladder.FUNCS]
+    points = ladder.run(steps, rounds=5 if min(rounds.values()) < 9 else 21) if steps else []
+    phases["ladder"] = time.perf_counter() - t
+
     report = {
         "version": 1,
         "started": datetime.datetime.now().isoformat(timespec="seconds"),
@@ -105,6 +111,7 @@ def run(functions=DEFAULT_FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20
         "peers": [{k: val for k, val in p.items() if k not in ("fn",)} for p in peer_list],
         "floors": [{k: val for k, val in f.items() if k not in ("ufunc", "fn")} for f in floors],
         "probes": [{k: val for k, val in p.items() if k not in ("ufunc", "fn")} for p in probes],
+        "ladder": ladder.to_json(points),
     }
     report["targets"] = check_targets(report)
     phases["total"] = time.perf_counter() - t_start
