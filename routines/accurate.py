@@ -191,10 +191,10 @@ def _exp_family(x, precision, natural):
         k = Round(x)
         f, hard = _rounded(_poly(poly, D(x - k), precision), precision, signed=False)  # x - k: exact
         result = Variable(F, _insert_exponent(f, k))
-    below = ~(x >= normal_from)                         # and NaN: quieted in the exact path
-    slow = below if hard is None else below | hard
-    with If(Any(slow)):
-        xs = D(Select((x > underflow) & (x < overflow), x, 0.0))
+    tiny = (x > underflow) & (x < normal_from)          # subnormal results
+    exact_lanes = tiny if hard is None else tiny | hard
+    with If(Any(exact_lanes)):
+        xs = D(Select(exact_lanes, x, 0.0))
         if natural:
             p1 = xs * LOG2E_1
             k2 = Round(p1)
@@ -204,10 +204,9 @@ def _exp_family(x, precision, natural):
         else:
             k2 = Round(xs)
             r_hi, r_lo = xs - k2, 0.0 * xs
-        exact = dd.round_pair(*_exp2_pair(k2, r_hi, r_lo))
-        exact = Select(x <= underflow, 0.0, exact)     # -inf included
-        result.set(Select(slow, Select(IsNan(x), x + x, exact), result))
-    return Select(x >= overflow, float("inf"), result.value)
+        result.set(Select(exact_lanes, dd.round_pair(*_exp2_pair(k2, r_hi, r_lo)), result))
+    out = Select(x >= overflow, float("inf"), Select(x <= underflow, 0.0, result.value))  # -inf: +0
+    return Select(IsNan(x), x + x, out)
 
 
 def _exp_faithful_float(x, natural):
@@ -317,19 +316,19 @@ def _log_family(x, precision, natural):
     y = _log2_double(e, u, poly, precision)
     f, hard = _rounded(y * LN2[0] if natural else y, precision)
     result = Variable(F, f)
-    slow = ~normal if hard is None else ~normal | hard
-    with If(Any(slow)):
-        subnormal = (x > 0.0) & (x < 2.0 ** -126)
+    subnormal = (x > 0.0) & (x < 2.0 ** -126)
+    exact_lanes = subnormal if hard is None else subnormal | (hard & normal)
+    with If(Any(~normal)):                              # zeros, negatives, infinities, NaNs: selected
+        special = Select(x == 0.0, F(float("-inf")), As(F, I(DEFAULT_NAN_BITS)))  # +-0; x < 0
+        special = Select(x == float("inf"), x, special)
+        result.set(Select(normal, result, Select(IsNan(x), x + x, special)))
+    with If(Any(exact_lanes)):                          # subnormal inputs, and the rounding test's lanes
         xs = Select(subnormal, x * 2.0 ** 24, Select(normal, x, 1.0))   # exact
         e2, u2 = _decompose(xs)
         pair = _log2_pair(e2 - Select(subnormal, D(24.0), D(0.0)), u2)
         if natural:
             pair = dd.mul(pair, LN2)
-        exact = dd.round_pair(*pair)
-        special = Select(x == 0.0, F(float("-inf")), As(F, I(DEFAULT_NAN_BITS)))  # +-0; x < 0
-        special = Select(x == float("inf"), x, special)
-        special = Select(IsNan(x), x + x, special)
-        result.set(Select(slow, Select(normal | subnormal, exact, special), result))
+        result.set(Select(exact_lanes, dd.round_pair(*pair), result))
     return result.value
 
 
