@@ -225,12 +225,8 @@ def _exp_faithful_float(x, natural):
     return result.value
 
 
-def exp2(x, precision):
-    return _exp_family(x, precision, natural=False)
-
-
-def exp(x, precision):
-    return _exp_family(x, precision, natural=True)
+exp2 = functools.partial(_exp_family, natural=False)
+exp = functools.partial(_exp_family, natural=True)
 
 
 def _decompose(x):
@@ -262,6 +258,15 @@ def _log2_pair(e, u):
 def _positive_normal(x):
     _, _, I, U = _types(x.width)
     return As(U, As(I, x) - _MIN_NORMAL_BITS) < U(_INF_BITS - _MIN_NORMAL_BITS)
+
+
+def _log_specials(x):
+    """log of what is not a positive float: -inf at +-0, +inf at +inf, x quieted at NaN, the
+    default NaN 0xffc00000 below 0."""
+    F, _, I, _ = _types(x.width)
+    special = Select(x == 0.0, F(float("-inf")), As(F, I(DEFAULT_NAN_BITS)))
+    special = Select(x == float("inf"), x, special)
+    return Select(IsNan(x), x + x, special)
 
 
 def _log_float(x, natural, offset=None):
@@ -297,10 +302,7 @@ def _log_faithful_float(x, natural):
         subnormal = (x > 0.0) & (x < 2.0 ** -126)
         scaled = _log_float(Select(subnormal, x * 2.0 ** 24, Select(normal, x, 1.0)), natural,
                             Select(subnormal, F(24.0), F(0.0)))
-        special = Select(x == 0.0, F(float("-inf")), As(F, I(DEFAULT_NAN_BITS)))   # +-0; x < 0
-        special = Select(x == float("inf"), x, special)
-        special = Select(IsNan(x), x + x, special)
-        result.set(Select(normal, result, Select(subnormal, scaled, special)))
+        result.set(Select(normal, result, Select(subnormal, scaled, _log_specials(x))))
     return result.value
 
 
@@ -319,9 +321,7 @@ def _log_family(x, precision, natural):
     subnormal = (x > 0.0) & (x < 2.0 ** -126)
     exact_lanes = subnormal if hard is None else subnormal | (hard & normal)
     with If(Any(~normal)):                              # zeros, negatives, infinities, NaNs: selected
-        special = Select(x == 0.0, F(float("-inf")), As(F, I(DEFAULT_NAN_BITS)))  # +-0; x < 0
-        special = Select(x == float("inf"), x, special)
-        result.set(Select(normal, result, Select(IsNan(x), x + x, special)))
+        result.set(Select(normal, result, _log_specials(x)))
     with If(Any(exact_lanes)):                          # subnormal inputs, and the rounding test's lanes
         xs = Select(subnormal, x * 2.0 ** 24, Select(normal, x, 1.0))   # exact
         e2, u2 = _decompose(xs)
@@ -332,12 +332,8 @@ def _log_family(x, precision, natural):
     return result.value
 
 
-def log2(x, precision):
-    return _log_family(x, precision, natural=False)
-
-
-def log(x, precision):
-    return _log_family(x, precision, natural=True)
+log2 = functools.partial(_log_family, natural=False)
+log = functools.partial(_log_family, natural=True)
 
 
 def _whole(y):
