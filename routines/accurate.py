@@ -12,7 +12,7 @@ a relative error far below float32's half ULP:
 
 **faithful**: with FMA on (in hardware, or emulated exactly at sse4), exp2, exp and log run
 in float32 lanes (``_exp_float``, ``_log_float``: the linear term split exactly into a float
-pair, one rounding at the result's scale; below 0.77 / 0.69 / 0.85 ULP); otherwise, and for
+pair, one rounding at the result's scale; below 0.77 / 0.78 / 0.87 ULP); otherwise, and for
 log2 and pow, the float64 value (relative error ~2^-28) rounded once to float32: below
 0.54 ULP. Subnormal results are rounded, never flushed.
 

@@ -64,7 +64,10 @@ EXP2_FULL = Polynomial(
                "\"(0.25*erf(1000*x)+0.75)*(2+2*abs(x))/x\"), then one round of routines.remez.retune "
                "against the compiled kernel's exhaustive margin (0.2519 -> 0.2349); evaluated as "
                "2^f = (P(f) f + f) + 1 on f = x - round(x)",
-    measured="see EXP2_FULL_MEASURED",
+    measured="exhaustive, all 2^32 inputs, compiled kernel (AVX2 portable path, the same bits as VSCALEFPS's): "
+             "max margin 0.2348 (FMA on) / 0.2329 (off), max ULP-32 0.920 (FMA on, x = -0.459) / 0.842 (off), "
+             "0 non-conforming, 0 special mismatches, 0 flushes (subnormal results rounded); `python -m routines "
+             "accuracy exp2 --precision full --fma on --exhaustive`",
 )
 
 EXP2_FULL_REFERENCE = Polynomial(
@@ -98,7 +101,9 @@ LOG2_FULL = Polynomial(
                "\"(log2(x+1.5)-x-0.5)/((x+0.5)*(0.5-x))\" \"1/((x+0.5)*(0.5-x))\"), then one round of "
                "routines.remez.retune against the compiled kernel's exhaustive margin (0.3607 -> 0.3560); "
                "evaluated centred, u = m - 1/2: (R(u) (1/4 - u^2) + u) + (e + 1/2)",
-    measured="see LOG2_FULL_MEASURED",
+    measured="exhaustive, all 2^32 inputs, compiled kernel: max margin 0.3560 (FMA on) / 0.3652 (off), "
+             "0 non-conforming, 0 special mismatches (max ULP-32 480710 at x = 1.00000024: Vulkan's absolute "
+             "tolerance near log2's zero); `python -m routines accuracy log2 --precision full --fma on --exhaustive`",
 )
 
 LOG2_FULL_REFERENCE = Polynomial(
