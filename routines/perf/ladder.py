@@ -169,33 +169,40 @@ def table(points: list[Point]) -> str:
 
 
 def chart(points: list[Point], path: str) -> None:
-    """Per function: time against max ULP-32 (log), our ladder joined, peers marked."""
+    """Per function: time against max ULP-32 (log scales), our ladder joined in blue, each peer a
+    red marker of its family, hollow where one of our points dominates it, filled where none does."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
     funcs = list(dict.fromkeys(p.func for p in points))
-    fig, axes = plt.subplots(1, len(funcs), figsize=(4.2 * len(funcs), 4.2), squeeze=False)
+    cols = min(3, len(funcs))
+    rows = (len(funcs) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 4.4 * rows), squeeze=False)
     markers = {"numpy": "s", "libmvec": "^", "sleef": "v", "svml": "D"}
-    for ax, func in zip(axes[0], funcs):
+    for ax, func in zip(axes.flat, funcs):
         ours = sorted((p for p in points if p.ours and p.func == func and p.present), key=lambda p: p.max_ulp)
         ax.plot([p.ns for p in ours], [max(p.max_ulp, 0.4) for p in ours], "o-", color="C0", label="ours")
         for p in ours:
             ax.annotate(p.label, (p.ns, max(p.max_ulp, 0.4)), fontsize=7, xytext=(3, 3), textcoords="offset points")
         for fam, m in markers.items():
             ps = [p for p in points if p.family == fam and p.func == func and p.present]
-            if ps:
-                ax.scatter([p.ns for p in ps], [max(p.max_ulp, 0.4) for p in ps], marker=m, label=fam,
-                           facecolors="none" if any(p.dominated_by for p in ps) else None, edgecolors="C3")
-                for p in ps:
-                    ax.annotate(p.key.split()[-1] if fam in ("sleef", "svml") else fam, (p.ns, max(p.max_ulp, 0.4)),
-                                fontsize=6, xytext=(3, -8), textcoords="offset points", color="C3")
+            for i, p in enumerate(ps):
+                ax.scatter([p.ns], [max(p.max_ulp, 0.4)], marker=m, color="C3", label=fam if i == 0 else None,
+                           facecolors="none" if p.dominated_by else "C3")
+                name = p.key.split()[-1] if fam in ("sleef", "svml") else fam
+                ax.annotate(name, (p.ns, max(p.max_ulp, 0.4)), fontsize=6, xytext=(3, -8),
+                            textcoords="offset points", color="C3")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_title(func)
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_title(f"{func} (hollow: dominated by one of our points)", fontsize=9)
         ax.set_xlabel("ns per element (64K float32, one thread)")
         ax.set_ylabel("max ULP-32 (sample)")
         ax.axhline(1.0, color="grey", lw=0.5, ls=":")
         ax.legend(fontsize=6)
+    for ax in list(axes.flat)[len(funcs):]:
+        ax.axis("off")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
