@@ -46,7 +46,7 @@ from . import doubled as dd
 from .base import DEFAULT_NAN_BITS, nan_rule
 from .polynomials import (
     EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL, LOG2_FAITHFUL_F,
-    LOG_FAITHFUL_F,
+    LOG2_POW, LOG_FAITHFUL_F,
 )
 
 #: The rounding test's relative window: above the float64 evaluation's error bound (2^-49).
@@ -347,19 +347,20 @@ def _whole(y):
 
 def pow(x, y, precision):  # noqa: A001
     """x^y with C99 Annex F semantics (pow, not powr), faithful: y log2|x| is formed in float64
-    from a log2 with relative error ~2^-50, so the exponent's error stays below 2^-42 absolute
-    for every finite result, and 2^t is rounded once to float32 (subnormal results included)."""
+    from a log2 with relative error ~2^-35 (LOG2_POW), so the exponent's error stays below 2^-28
+    absolute for every finite result (|y log2 x| < 150), and 2^t (EXP2_FAITHFUL, 2^-29) is
+    rounded once to float32 (subnormal results included)."""
     F, D, I, _ = _types(x.width)
     ax = reactor.Abs(x)
     subnormal = ax < 2.0 ** -126
     xs = Select(subnormal, ax * 2.0 ** 24, Select(_positive_normal(ax), ax, 1.0))
     e, u = _decompose(xs)
-    lx = _log2_double(e - Select(subnormal, D(24.0), D(0.0)), u, LOG2_CORRECT, precision)
+    lx = _log2_double(e - Select(subnormal, D(24.0), D(0.0)), u, LOG2_POW, precision)
     t = D(y) * lx
     t = Select(IsInf(t) | IsNan(t), D(0.0), t)                # zeros, infinities, NaNs: below
     t = reactor.Min(reactor.Max(t, D(-200.0)), D(200.0))      # 2^t is 0 or inf beyond
     k = Round(t)
-    core = F(_poly(EXP2_CORRECT, t - k, precision) * _pow2(k))  # one rounding, subnormals and overflow too
+    core = F(_poly(EXP2_FAITHFUL, t - k, precision) * _pow2(k))  # one rounding, subnormals and overflow too
     # The cases the formula above does not give: zeros, infinities, NaNs, and the sign.
     integer, odd = _whole(y)
     log_inf = (ax == 0.0) | (ax == float("inf")) | IsInf(y)

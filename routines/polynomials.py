@@ -348,7 +348,17 @@ LOG2_CORRECT = DoublePolynomial(
                f"\"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 1.38e-17 (2^-56.0)",
     measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
 
-DOUBLE = (EXP2_FAITHFUL, EXP2_CORRECT, LOG2_FAITHFUL, LOG2_CORRECT)
+LOG2_POW = DoublePolynomial(
+    name="log2.pow", function=_LOG2_Q, weight=_LOG2_Q, interval=("1e-60", "0.04"),
+    coefficients=("0.348373226007343715693487462389", "0.411207856197582509539616187127",
+                  "0.577092307422044812082476656595", "0.961796622034959891905236139382",
+                  "2.88539008183569478004661564476"),
+    provenance="our Remez fitter, as log2.faithful with degree 4, for the faithful pow (y log2 x needs log2 "
+               "to ~2^-34 relative for |y log2 x| up to 150): python -m routines remez -d 4 -r "
+               f"\"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 2.00e-11 (2^-35.5)",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder pow --exhaustive)")
+
+DOUBLE = (EXP2_FAITHFUL, EXP2_CORRECT, LOG2_FAITHFUL, LOG2_CORRECT, LOG2_POW)
 
 # The faithful tier's float32 path (FMA on): e^r = 1 + r + r^2 Q(r) on |r| <= ln2/2, and
 # 2^r = 1 + r ln2 + r^2 Q2(r) on |r| <= 1/2 with Q2(r) = ln2^2 Q(r ln2), the same fit rescaled
