@@ -23,7 +23,7 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PY = sys.executable
 ROUTINES = ("remez", "specials", "accuracy", "bench", "zoo", "chart", "report", "docs", "search",
-            "fingerprint", "dump")
+            "fingerprint", "dump", "ladder")
 #: bad value -> the one line argparse prints
 BAD_NUMBERS = {
     "accuracy --samples -5": (["routines", "accuracy", "exp2", "--samples", "-5"],
