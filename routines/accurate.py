@@ -12,7 +12,7 @@ a relative error far below float32's half ULP:
 
 **faithful**: with FMA on (in hardware, or emulated exactly at sse4), exp2, exp and log run
 in float32 lanes (``_exp_float``, ``_log_float``: the linear term split exactly into a float
-pair, one rounding at the result's scale; below 0.77 / 0.78 / 0.87 ULP); otherwise, and for
+pair, one rounding at the result's scale; below 0.78 / 0.78 / 0.87 ULP); otherwise, and for
 log2 and pow, the float64 value (relative error ~2^-28) rounded once to float32: below
 0.54 ULP. Subnormal results are rounded, never flushed.
 
@@ -165,7 +165,7 @@ def _exp_float(x, natural):
         r = x - k                                       # exact
         a = r * LN2_F[0]
         s = 1.0 + a
-        tail = Fma(r, LN2_F[0], -a) + (a - (s - 1.0)) + r * LN2_F[1]
+        tail = Fma(r, LN2_F[0], -a) + (a - (s - 1.0))   # r ln2_hi - a exactly (ln2_lo r < 2^-29.5: left out)
         q = EXP2_FAITHFUL_F(r)
     p = s + Fma(r * r, q, tail)
     return p, k
