@@ -111,7 +111,7 @@ def x_limit(xs: Sequence[float]) -> float | None:
 
 STYLE = {  # family -> (marker, colour)
     "ours full": ("o", "#1f77b4"), "ours relaxed": ("^", "#ff7f0e"), "numpy": ("s", "#2ca02c"),
-    "libmvec": ("D", "#9467bd"), "sleef": ("P", "#8c564b"), "numba": ("X", "#e377c2"),
+    "libmvec": ("D", "#9467bd"), "sleef": ("P", "#8c564b"), "svml": ("v", "#bcbd22"), "numba": ("X", "#e377c2"),
     "search": ("*", "#17becf"),
 }
 SIZE = {4: 22, 8: 38, 16: 60, None: 50}
