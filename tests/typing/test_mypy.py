@@ -14,7 +14,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 LIBRARY = ["-p", "reactor", "-m", "routines", "-m", "routines.kernels", "-m", "routines.base",
            "-m", "routines.exponential", "-m", "routines.logarithm", "-m", "routines.power",
            "-m", "routines.reciprocal", "-m", "routines.polynomials", "-m", "routines.specials",
-           "-m", "routines.glsl", "-m", "routines.trig", "-m", "routines.pixels"]
+           "-m", "routines.glsl", "-m", "routines.trig", "-m", "routines.pixels", "-m", "routines.accurate",
+           "-m", "routines.doubled"]
 
 
 def _mypy(args, tmp_path):
