@@ -319,14 +319,14 @@ EXP2_FAITHFUL = DoublePolynomial(
 
 EXP2_CORRECT = DoublePolynomial(
     name="exp2.correct", function="2^x", weight="2^x", interval=("-0.5", "0.5"),
-    coefficients=("0.00000000703727835328324043335155026386", "0.000000102085379412145277998731266877",
-                  "0.00000132156628389549575595174198809", "0.0000152526581163483326532548158426",
-                  "0.000154035299611207843893285184492", "0.00133335582285618714728845808528",
-                  "0.00961812910803460232137539332102", "0.0555041086644588307134803292799",
-                  "0.240226506959087677543085480745", "0.693147180559949775107718109087",
-                  "1.00000000000000006606474651001"),
-    provenance="our Remez fitter: python -m routines remez -d 10 -r \"-0.5:0.5\" \"2^x\" \"2^x\" --json "
-               "--dps 60; levelled error 2.11e-16 (2^-52.1), 2^-51.7 once rounded to binary64",
+    coefficients=("0.00000131758581136080196979164153715", "0.0000153097374222449818625592024804",
+                  "0.00015403851748734642383795842528", "0.00133334520622475414686487640647",
+                  "0.00961812854286237687576649053401", "0.0555041093934171194207333456921",
+                  "0.240226506988803699009367375899", "0.693147180546514159878378374612",
+                  "0.999999999999762345385640465291"),
+    provenance="our Remez fitter: python -m routines remez -d 8 -r \"-0.5:0.5\" \"2^x\" \"2^x\" --json "
+               "--dps 60; levelled error 7.74e-13 (2^-40.2), under the correct tier's rounding-test window "
+               "2^-38",
     measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
 
 LOG2_FAITHFUL = DoublePolynomial(
@@ -340,12 +340,12 @@ LOG2_FAITHFUL = DoublePolynomial(
 
 LOG2_CORRECT = DoublePolynomial(
     name="log2.correct", function=_LOG2_Q, weight=_LOG2_Q, interval=("1e-60", "0.04"),
-    coefficients=("0.222010465880726045197641499663", "0.219969595110197499661163292002",
-                  "0.262376300510355862766371018989", "0.320597609589738053728202863909",
-                  "0.412198596308330419000885643029", "0.577078016289305451593149512613",
-                  "0.961796693926102296145885439838", "2.88539008177792677501195497675"),
-    provenance="our Remez fitter, as log2.faithful with degree 7: python -m routines remez -d 7 -r "
-               f"\"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 1.38e-17 (2^-56.0)",
+    coefficients=("0.290798114338830994172722210293", "0.319288039555405934096171689537",
+                  "0.412226079384548006784812777897", "0.577077756779160174766818760552",
+                  "0.96179669482029602540569867337", "2.88539008177742808386685827796"),
+    provenance="our Remez fitter, as log2.faithful with degree 5: python -m routines remez -d 5 -r "
+               f"\"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 1.73e-13 (2^-42.4), "
+               "under the correct tier's rounding-test window 2^-38",
     measured="see docs/accuracy-ladder.md (python -m routines ladder --exhaustive)")
 
 LOG2_POW = DoublePolynomial(
