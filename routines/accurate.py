@@ -43,7 +43,7 @@ from reactor import (
 )
 
 from . import doubled as dd
-from .base import DEFAULT_NAN_BITS, nan_rule
+from .base import DEFAULT_NAN_BITS, nan_rule, positive_normal
 from .polynomials import (
     EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL, LOG2_FAITHFUL_F,
     LOG2_POW, LOG_FAITHFUL_F,
@@ -62,7 +62,6 @@ LOG2E_PAIR = (1.4426950216293335, 1.925963033500011e-08)  # 1/ln 2 as a float32 
 
 EXP_OVERFLOW = 88.72283935546875    # the least float32 x with exp(x) >= 2^128 - 2^103 (rounds to +inf)
 EXP_UNDERFLOW = -103.97208404541016  # the greatest float32 x with exp(x) <= 2^-150 (rounds to +0)
-_MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000
 
 
 def _types(width):
@@ -256,11 +255,6 @@ def _log2_pair(e, u):
     return dd.add((e, 0.0 * u), dd.mul(s, c))
 
 
-def _positive_normal(x):
-    _, _, I, U = _types(x.width)
-    return As(U, As(I, x) - _MIN_NORMAL_BITS) < U(_INF_BITS - _MIN_NORMAL_BITS)
-
-
 def _log_specials(x):
     """log of what is not a positive float: -inf at +-0, +inf at +inf, x quieted at NaN, the
     default NaN 0xffc00000 below 0."""
@@ -297,7 +291,7 @@ def _log_faithful_float(x, natural):
     """The faithful tier with FMA: ``_log_float``; a vector with a lane that is not a positive
     normal float normalizes subnormals (x 2^24, exact) and selects the specials."""
     F, _, I, _ = _types(x.width)
-    normal = _positive_normal(x)
+    normal = positive_normal(x)
     result = Variable(F, _log_float(x, natural))
     with If(Any(~normal)):
         subnormal = (x > 0.0) & (x < 2.0 ** -126)
@@ -314,7 +308,7 @@ def _log_family(x, precision, natural):
         # x = 1.4, the product by 1/ln 2 costing what log's exact leading term u does not
         return _log_faithful_float(x, natural)
     poly = LOG2_CORRECT if precision is Precision.CORRECT else LOG2_FAITHFUL
-    normal = _positive_normal(x)
+    normal = positive_normal(x)
     e, u = _decompose(x)                                # garbage where not normal: replaced below
     y = _log2_double(e, u, poly, precision)
     f, hard = _rounded(y * LN2[0] if natural else y, precision)
@@ -354,7 +348,7 @@ def pow(x, y, precision):  # noqa: A001
     F, D, I, _ = _types(x.width)
     ax = reactor.Abs(x)
     subnormal = ax < 2.0 ** -126
-    xs = Select(subnormal, ax * 2.0 ** 24, Select(_positive_normal(ax), ax, 1.0))
+    xs = Select(subnormal, ax * 2.0 ** 24, Select(positive_normal(ax), ax, 1.0))
     e, u = _decompose(xs)
     lx = _log2_double(e - Select(subnormal, D(24.0), D(0.0)), u, LOG2_POW, precision)
     t = D(y) * lx

@@ -83,6 +83,16 @@ def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
     return build
 
 
+_MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000
+
+
+def positive_normal(x: Value) -> Value:
+    """The lanes of the Float value ``x`` holding a positive normal float (not zero, subnormal,
+    negative, infinite or NaN): one unsigned compare on the bits."""
+    Int_, UInt_ = reactor.vector_type("Int", x.width), reactor.vector_type("UInt", x.width)
+    return As(UInt_, As(Int_, x) - _MIN_NORMAL_BITS) < UInt_(_INF_BITS - _MIN_NORMAL_BITS)
+
+
 #: The NaN an invalid operation gives on x86 (0 * inf, inf - inf, a negative's square root): the
 #: routines give it on every target (AArch64 hardware gives 0x7fc00000).
 DEFAULT_NAN_BITS = -0x00400000  # 0xffc00000

@@ -39,11 +39,10 @@ from reactor import (
 )
 
 from . import accurate
-from .base import float_value, routine
+from .base import float_value, positive_normal, routine
 from .polynomials import LOG2_FULL, LOG2_RELAXED
 
 LN_2 = 0.6931471805599453
-_MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000
 
 
 def _full(e_half, u):
@@ -74,9 +73,9 @@ def log2(x, precision: Precision = Precision.FULL):
     # ~25 vector operations. For positive normal x they are two bit fields, so the vector takes
     # that path, and the general one only runs when some lane needs it (the same bits: for
     # normal x both give e = biased exponent - 127 and m = the fraction field / 2^23).
-    Int_, UInt_, Float_ = (vector_type(k, x.width) for k in ("Int", "UInt", "Float"))
+    Int_, Float_ = vector_type("Int", x.width), vector_type("Float", x.width)
     bits = As(Int_, x)
-    normal = As(UInt_, bits - _MIN_NORMAL_BITS) < UInt_(_INF_BITS - _MIN_NORMAL_BITS)
+    normal = positive_normal(x)
     biased = Float_(ShiftRightLogical(bits, 23))
     significand = As(Float_, (bits & 0x007FFFFF) | 0x3F800000)
     if precision is Precision.FULL:
