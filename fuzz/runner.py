@@ -9,6 +9,7 @@ and the run goes on with the next one.
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import os
@@ -402,28 +403,11 @@ def run_isolated(budget: int, seed=0, progress=None) -> Stats:
                "--count", str(end - index)]
         env = dict(os.environ, REACTOR_CACHE="0", PYTHONPATH=os.pathsep.join(
             [_ROOT] + [p for p in [os.environ.get("PYTHONPATH")] if p]))  # the worker imports this package
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, env=env, text=True)
-        running = None
-        for line in proc.stdout:
-            msg = json.loads(line)
-            if msg["event"] == "start":
-                running = msg["index"]
-                continue
-            stats.programs += 1
-            stats.variants += msg["variants"]
-            stats.lanes += msg["lanes"]
-            for name in msg["ops"]:
-                stats.ops[name] = stats.ops.get(name, 0) + 1
-            if msg["status"] == "mismatch":
-                stats.mismatches += 1
-            elif msg["status"] == "error":
-                stats.errors += 1
-            if msg["status"] != "ok":
-                stats.findings.append((msg["index"], msg["status"], msg["summary"], msg["program"]))
-            index = msg["index"] + 1
-            running = None
-            if progress is not None:
-                progress(stats, time.perf_counter() - t0)
+        # its own session: Ctrl-C at a terminal reaches this process only, never a worker still
+        # starting up (it would print a traceback); this process ends the worker on its way out
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, env=env, text=True, start_new_session=True)
+        with _ended_on_exit(proc):
+            index, running = _read_worker(proc, stats, index, progress, t0)
         code = proc.wait()
         if code != 0:
             crashed = running if running is not None else index
@@ -434,6 +418,44 @@ def run_isolated(budget: int, seed=0, progress=None) -> Stats:
             index = crashed + 1
     stats.seconds = time.perf_counter() - t0
     return stats
+
+
+@contextlib.contextmanager
+def _ended_on_exit(proc: subprocess.Popen):
+    """Kill ``proc`` if the block is left by an exception (Ctrl-C, a closed pipe)."""
+    try:
+        yield proc
+    except BaseException:
+        proc.kill()
+        proc.wait()
+        raise
+
+
+def _read_worker(proc: subprocess.Popen, stats: Stats, index: int, progress, t0: float) -> tuple:
+    """Add a worker's reported results to ``stats``; return (next index, the program it was
+    running when its output ended, or None)."""
+    running = None
+    for line in proc.stdout:
+        msg = json.loads(line)
+        if msg["event"] == "start":
+            running = msg["index"]
+            continue
+        stats.programs += 1
+        stats.variants += msg["variants"]
+        stats.lanes += msg["lanes"]
+        for name in msg["ops"]:
+            stats.ops[name] = stats.ops.get(name, 0) + 1
+        if msg["status"] == "mismatch":
+            stats.mismatches += 1
+        elif msg["status"] == "error":
+            stats.errors += 1
+        if msg["status"] != "ok":
+            stats.findings.append((msg["index"], msg["status"], msg["summary"], msg["program"]))
+        index = msg["index"] + 1
+        running = None
+        if progress is not None:
+            progress(stats, time.perf_counter() - t0)
+    return index, running
 
 
 def add_arguments(parser) -> None:

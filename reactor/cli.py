@@ -5,7 +5,8 @@ printing its code, the options that choose a build, and what makes a command lin
 * :class:`ArgumentParser`: argparse with one-line errors (``prog: error: ...``, exit 2)
   and an ``examples:`` epilog in ``--help``;
 * argument types that reject bad numbers in argparse (:func:`int_type`,
-  :data:`positive_int`, :data:`non_negative_int`, :data:`power_of_two`);
+  :data:`positive_int`, :data:`non_negative_int`, :data:`power_of_two`) and names outside a
+  list (:func:`choice_of`);
 * :func:`run`, the wrapper around a command's ``main``: a mistake of the user's
   (:class:`ReactorError`, :class:`CommandError`, a file that cannot be opened) is one line
   ``error: ...`` and exit status 2; Ctrl-C is one line ``interrupted`` and status 130; a
@@ -88,6 +89,22 @@ def int_type(minimum: int | None = None, maximum: int | None = None, *,
 positive_int = int_type(1)
 non_negative_int = int_type(0)
 power_of_two = int_type(1, power_of_two=True)
+
+
+def choice_of(names: Sequence[str]) -> Callable[[str], str]:
+    """An argparse ``type=`` accepting one of ``names``: argparse's own ``invalid choice``
+    line for anything else. Use it instead of ``choices=`` on a positional with ``nargs="*"``,
+    whose empty default argparse before Python 3.12 checks against ``choices`` (and rejects)."""
+    allowed = tuple(names)
+
+    def parse(text: str) -> str:
+        if text not in allowed:
+            raise argparse.ArgumentTypeError(
+                f"invalid choice: {text!r} (choose from {', '.join(map(repr, allowed))})")
+        return text
+
+    parse.__name__ = parse.__qualname__ = "choice"
+    return parse
 
 
 # -- running a command ------------------------------------------------------------------

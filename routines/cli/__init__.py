@@ -8,7 +8,7 @@ one line ``error: ...`` (exit status 2), Ctrl-C is one line ``interrupted``
 * :func:`parser` -- an :class:`ArgumentParser` named ``python -m routines NAME``
   with one-line argparse errors and ``examples:`` in ``--help``;
 * argument types: :data:`positive_int`, :data:`non_negative_int`,
-  :data:`power_of_two`, :func:`int_type` (any range);
+  :data:`power_of_two`, :func:`int_type` (any range), :func:`choice_of` (a name of a list);
 * :func:`add_quiet` -- the ``--quiet`` option of long commands; progress bars
   are drawn only when stderr is a terminal (tqdm's ``disable=None``) and never
   with ``--quiet``;
@@ -19,10 +19,10 @@ The generic pieces live in :mod:`reactor.cli` (``python -m reactor`` and
 """
 from __future__ import annotations
 
-from reactor.cli import (ArgumentParser, CommandError, describe, int_type, non_negative_int,
+from reactor.cli import (ArgumentParser, CommandError, choice_of, describe, int_type, non_negative_int,
                          positive_int, power_of_two, run)
 
-__all__ = ["ArgumentParser", "CommandError", "add_quiet", "describe", "int_type", "non_negative_int",
+__all__ = ["ArgumentParser", "CommandError", "add_quiet", "choice_of", "describe", "int_type", "non_negative_int",
            "parser", "positive_int", "power_of_two", "run"]
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import pathlib
 
-from . import add_quiet
+from . import add_quiet, choice_of
 from . import parser as command_parser
 
 FUNCS = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt", "pow")
@@ -20,7 +20,8 @@ FUNCS = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt", "pow")
 
 def main(argv: list[str]) -> int:
     p = command_parser("ladder", __doc__, ("exp2 log2 --exhaustive", "pow", "--fma on --precisions correct"))
-    p.add_argument("functions", nargs="*", choices=FUNCS, help="default: all")
+    p.add_argument("functions", nargs="*", type=choice_of(FUNCS), metavar="F",
+                   help=f"any of {', '.join(FUNCS)} (default: all)")
     p.add_argument("--precisions", nargs="+", choices=("faithful", "correct"), default=["faithful", "correct"])
     p.add_argument("--fma", nargs="+", choices=("on", "off"), default=["on", "off"])
     p.add_argument("--exhaustive", action="store_true", help="all 2^32 inputs (pow: all 256 strata)")

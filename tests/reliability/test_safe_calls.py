@@ -20,7 +20,7 @@ import reactor
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 SCRIPT = textwrap.dedent('''
-    import os, signal, sys, threading, time
+    import os, signal, sys, threading
     import numpy as np
     import reactor
     from reactor import Float, For, Variable, kernel
@@ -37,7 +37,8 @@ SCRIPT = textwrap.dedent('''
     reactor.configure_threads(threads=1)
     want = slow(x)
     reactor.configure_threads(threads=2, threshold=1, min_work=0)
-    mode = sys.argv[1]
+    mode, runs, wanted = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+    signum = signal.SIGALRM if mode == "alarm" else signal.SIGINT
     if mode == "alarm":
         class Alarm(Exception):
             pass
@@ -47,41 +48,59 @@ SCRIPT = textwrap.dedent('''
         caught = Alarm
     else:
         caught = KeyboardInterrupt
+
+    def signal_once_written(out, sent, during):
+        """Send the signal once the call has written some output (so it has started, whatever the
+        machine's load), and note whether the call was still writing then."""
+        while np.isnan(out[::4096]).all():
+            pass
+        os.kill(os.getpid(), signum)
+        during.append(bool(np.isnan(out).any()))
+        sent.set()
+
     taken = complete = 0
-    for run in range(int(sys.argv[2])):
+    during = []
+    for run in range(runs):
         out = np.full(n, np.nan, np.float32)
-        try:  # on a loaded machine the signal may come before the call starts (even in Timer.start)
-            if mode == "alarm":
-                signal.setitimer(signal.ITIMER_REAL, 0.002)
-            else:
-                threading.Timer(0.002, os.kill, (os.getpid(), signal.SIGINT)).start()
+        sent = threading.Event()
+        watcher = threading.Thread(target=signal_once_written, args=(out, sent, during), daemon=True)
+        watcher.start()
+        try:
             slow(x, out=out)
-            for _ in range(10000):  # the signal may come after a fast call (or a loaded machine): wait
-                time.sleep(0.001)
+            if not sent.wait(60):  # bounded: the watcher runs once the call has written
+                raise SystemExit("the signal was never sent")
+            for _ in range(1000):  # the handler runs at the main thread's next check
+                sent.wait(0.001)
+            raise SystemExit(f"run {run}: the signal was never taken")
         except caught:
             taken += 1
-        done = np.array_equal(out.view(np.uint32), want.view(np.uint32))
-        assert done or np.isnan(out).all(), f"run {run}: output partly written"  # never half a call
-        complete += done
+        watcher.join(60)
+        assert np.array_equal(out.view(np.uint32), want.view(np.uint32)), f"run {run}: output partly written"
+        complete += 1
         r = slow(x)  # a result freed right after: no thread may still write to it
         del r
-    print("complete", complete, "taken", taken)
+        if run + 1 >= wanted and sum(during) >= 1:
+            break
+    print("complete", complete, "taken", taken, "during", sum(during), "runs", run + 1)
 ''')
 
 
-def _run(mode: str, runs: int):
-    proc = subprocess.run([sys.executable, "-c", SCRIPT, mode, str(runs)], capture_output=True, text=True,
-                          timeout=300, cwd=ROOT, env=dict(os.environ, PYTHONPATH=ROOT))
+def _run(mode: str, runs: int, wanted: int):
+    proc = subprocess.run([sys.executable, "-c", SCRIPT, mode, str(runs), str(wanted)], capture_output=True,
+                          text=True, timeout=600, cwd=ROOT, env=dict(os.environ, PYTHONPATH=ROOT))
     assert proc.returncode == 0, proc.stderr[-3000:]
     words = proc.stdout.split()
-    return int(words[-3]), int(words[-1])
+    return {words[k]: int(words[k + 1]) for k in range(0, len(words), 2)}
 
 
 @pytest.mark.parametrize("mode", ["sigint", "alarm"])
 def test_signal_during_split_call_is_taken_after_complete_output(mode):
-    complete, taken = _run(mode, 12)
-    assert taken == 12  # every signal arrived as an exception, once
-    assert complete >= 6  # and most calls ran to the end first (the rest never started)
+    """Each signal is sent once the call has begun writing (a watcher thread sees output), never
+    by a clock: every call completes its output, then the signal arrives as an exception, once.
+    Runs go on (up to 60) until at least one signal was sent while the call was still writing."""
+    r = _run(mode, 60, 8)
+    assert r["complete"] == r["taken"] == r["runs"] >= 8
+    assert r["during"] >= 1  # the signal did arrive in the middle of a call
 
 
 def _child(queue):
