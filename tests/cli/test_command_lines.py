@@ -6,6 +6,7 @@ quick ones all at once (one fixture), so the module stays within a few seconds."
 from __future__ import annotations
 
 import argparse
+import contextlib
 import fcntl
 import os
 import pathlib
@@ -177,17 +178,23 @@ def _interrupt(argv, *, group: bool):
     under way, whatever the machine's load), send it Ctrl-C; return (status, stderr)."""
     p = subprocess.Popen([PY, "-m", *argv], cwd=ROOT, env=_env(), stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, start_new_session=True)
-    deadline = time.monotonic() + 120
-    while not _children(p.pid):
-        assert p.poll() is None, p.communicate()
-        assert time.monotonic() < deadline, "the command started no worker in 120 s"
-        time.sleep(0.05)
-    workers = _children(p.pid)
-    if group:  # as Ctrl-C in a terminal: the whole process group (the workers too)
-        os.killpg(p.pid, signal.SIGINT)
-    else:
-        p.send_signal(signal.SIGINT)
-    out, err = p.communicate(timeout=120)  # bounded: an exhaustive sweep alone takes longer
+    try:
+        deadline = time.monotonic() + 120
+        while not _children(p.pid):
+            assert p.poll() is None, p.communicate()
+            assert time.monotonic() < deadline, "the command started no worker in 120 s"
+            time.sleep(0.05)
+        workers = _children(p.pid)
+        if group:  # as Ctrl-C in a terminal: the whole process group (the workers too)
+            os.killpg(p.pid, signal.SIGINT)
+        else:
+            p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=120)  # bounded: an exhaustive sweep alone takes longer
+    finally:  # a failed check leaves nothing running
+        for pid in [p.pid] + _children(p.pid):
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+        p.wait(timeout=60)
     deadline = time.monotonic() + 30
     while any(map(_alive, workers)) and time.monotonic() < deadline:
         time.sleep(0.05)
