@@ -4,7 +4,7 @@
 
 Times the dependent FMA chain and the dependent FADD chain (``routines.perf.clock``)
 several times and prints, for each run, the clock derived from each chain with the
-latencies of the microarchitecture row chosen for this host (``routines.perf.cpus``),
+latencies of the microarchitecture row chosen for this host (``reactor.cost.cpus``),
 and the FADD latency the two times imply. When the row is right, the two clocks
 agree within a few percent and the implied FADD latency matches the table; a
 disagreement names a wrong row (or an unknown core on the ``generic`` row). This
@@ -20,7 +20,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from routines.perf import clock, cpus  # noqa: E402
+from reactor.cost import cpus  # noqa: E402
+from routines.perf import clock  # noqa: E402
 
 
 def main(argv=None) -> int:

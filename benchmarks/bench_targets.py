@@ -96,7 +96,7 @@ def _iteration_operations(kern) -> int:
     AVX-512 left out; phis, branches and bit casts, which emit no instruction, not counted)."""
     import llvmlite.binding as llvm
 
-    from routines.perf import model
+    from reactor.cost import model
 
     fn = llvm.parse_assembly(kern.optimized_ir).get_function(f"{kern.name}.loop")
     body, _ = model.iteration(fn)

@@ -13,10 +13,9 @@ user's own code, or a routine such as ``exp2`` emitted there), compiled with the
 same settings (or those given), and read back from the optimized IR and the
 assembly (``reactor.explain.listing``). A kernel shows its vector loop: the body
 as it runs, W elements at a time; ``plumbing=True`` adds the rest (the loop
-control, the width-1 tail body, the ufunc's dispatcher). A cost model registered
-under the entry-point group ``reactor.explain_costs`` (the routines package
-registers its dataflow model) gives each line its operations by pipe, its share
-of the throughput bound and whether it is on the critical path.
+control, the width-1 tail body, the ufunc's dispatcher). The dataflow cost model
+(``reactor.cost``) gives each line its operations by pipe, its share of the
+throughput bound and whether it is on the critical path.
 """
 from __future__ import annotations
 
@@ -25,6 +24,7 @@ import re
 import dataclasses
 import typing
 
+from ..cost.lines import line_costs
 from ..errors import ReactorError
 from .listing import Instruction, parse_asm, parse_ir, source_line
 
@@ -206,10 +206,9 @@ def _lines(ir_fns, asm_fns, groups, region, plumbing) -> list[Line]:
 
 
 def _apply_costs(lines: list[Line], optimized: str, region: str | None, width: int) -> dict:
-    model = _cost_model()
-    if model is None or region is None:
+    if region is None:
         return {}
-    per_instruction, summary = model(optimized, region, width)
+    per_instruction, summary = line_costs(optimized, region, width)
     by_text = collections.defaultdict(list)
     for text, cost in per_instruction:
         by_text[text.strip()].append(cost)
@@ -226,17 +225,6 @@ def _apply_costs(lines: list[Line], optimized: str, region: str | None, width: i
         if ops:
             row.cost = {"ops": dict(ops), "busy": busy, "share": busy / total, "critical": critical}
     return summary
-
-
-def _cost_model():
-    """The registered cost model (entry-point group ``reactor.explain_costs``), or None."""
-    from importlib.metadata import entry_points
-    for ep in entry_points(group="reactor.explain_costs"):
-        try:
-            return ep.load()
-        except Exception:  # noqa: BLE001 - a broken plugin must not break explain
-            continue
-    return None
 
 
 def _short(path: str | None) -> str:

@@ -6,8 +6,7 @@
 2. **Sites**: the routine calls the reference build recorded (``kernel_of(u).routines``: routine
    and the user's file:line; a built-in such as ``normalize`` counts through the routine it calls).
 3. **Alone**: each site at each cheaper tier, the others at the reference's: the outputs it
-   changes, and its modelled cost (cycles per element, from the dataflow model registered under
-   the entry point ``reactor.kernel_costs``, else reactor's own estimate).
+   changes, and its modelled cost (cycles per element, from the dataflow model, ``reactor.cost``).
 4. **Together**: sites that changed nothing alone are lowered one by one, the largest saving
    first, each kept only if the combination still changes nothing (two harmless changes can
    add up to a changed code).
@@ -25,6 +24,7 @@ import typing
 import numpy as np
 
 from ..build import SHADER_TIERS, Site
+from ..cost.model import kernel_cycles
 from ..errors import ReactorError
 from .domains import Check, rows_to_check
 from .outputs import Output, changed_rows, row_margin
@@ -202,25 +202,9 @@ def _code(cand) -> str:
 
 
 def cycles_per_element(kern) -> float:
-    """The registered dataflow model's cycles per element of a kernel's vector loop (entry point
-    ``reactor.kernel_costs``), else reactor's own estimate (``Kernel.cycles_per_element``)."""
-    model = _cost_model()
-    if model is not None:
-        try:
-            return float(model(kern))
-        except Exception:  # noqa: BLE001 - a broken plugin falls back to the estimate
-            pass
-    return float(kern.cycles_per_element)
-
-
-def _cost_model():
-    from importlib.metadata import entry_points
-    for ep in entry_points(group="reactor.kernel_costs"):
-        try:
-            return ep.load()
-        except Exception:  # noqa: BLE001
-            continue
-    return None
+    """The dataflow model's cycles per element of a kernel's vector loop on the host's table
+    (``reactor.cost``)."""
+    return float(kernel_cycles(kern))
 
 
 def _site_tuple(chosen: dict, fma) -> tuple:

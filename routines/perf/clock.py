@@ -39,7 +39,7 @@ import time
 
 import numpy as np
 
-from . import cpus
+from reactor.cost import cpus
 
 UNROLL = 64
 #: Dependent operations per timing call (~0.3 ms at 3.6 GHz for the FMA chain).

@@ -29,7 +29,7 @@ ULP-32 is reported over the reference's own domain (exp2 ``[-1, 1)``, log2
 meaningless for exp2, 33 ULP at x = 64.8 for every variant, and log2, whose
 bound near 1 is absolute).
 
-Cost. ``routines.perf.model.predict``: throughput-bound cycles per vector of
+Cost. ``reactor.cost.predict``: throughput-bound cycles per vector of
 the kernel's loop, divided by its width. Two intrinsics the model does not
 know (it would count an opaque call) are rewritten in the IR it reads:
 ``llvm.lrint`` (one VCVTPS2DQ) as the ``fptosi`` it replaces (same class,
@@ -212,9 +212,9 @@ def _model_ir(kern) -> str:
 
 
 def model_cost(ufunc):
-    """``Prediction`` of routines.perf.model for the kernel (lrint as a conversion)."""
+    """``Prediction`` of reactor.cost for the kernel (lrint as a conversion)."""
     from reactor import kernel_of
-    from ..perf.model import predict
+    from reactor.cost import predict
     kern = kernel_of(ufunc)
     return predict(_model_ir(kern), f"{kern.name}.loop", kern.build.width)
 
@@ -260,7 +260,7 @@ class Point:
     """A measured candidate (one point of the chart)."""
 
     candidate: Candidate
-    cost: object                  # routines.perf.model.Prediction
+    cost: object                  # reactor.cost.Prediction
     core: Score
     exhaustive: bool
     wide: object                  # routines.lab.SweepResult of the wide checks

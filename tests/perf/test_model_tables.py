@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from routines.perf import cpus, linecost, model as M
+from reactor.cost import cpus, lines as linecost, model as M
 
 REQUIRED = {  # table: (native vector bits, slot bits)
     "zen3": (256, 256), "zen4": (512, 256), "zen5": (512, 512), "goldencove": (512, 256),

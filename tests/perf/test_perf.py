@@ -13,7 +13,8 @@ import sys
 import numpy as np
 import pytest
 
-from routines.perf import chart, clock, cpus, model, peers, report, timing
+from reactor.cost import cpus, model
+from routines.perf import chart, clock, peers, report, timing
 
 
 # -- Pareto frontier and lower convex hull ------------------------------------------------

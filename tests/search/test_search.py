@@ -111,7 +111,7 @@ def test_scalef_forms_handle_special_values_without_fixups():
     assert "call" not in cost.counts
     if AVX512:  # elsewhere: the portable paths, with the same bits (tests/dsl/test_intrinsics_portable.py)
         assert "vscalefps" in asm and "vreduceps" in asm
-        from routines.perf import model
+        from reactor.cost import model
         zen4 = model.predict(R._model_ir(kernel_of(k)), f"{kernel_of(k).name}.loop", kernel_of(k).build.width,
                              machine="zen4")
         assert zen4.throughput_bound == 7.0                       # 6 FMAs + VSCALEFPS on Zen 4's FP0/FP1

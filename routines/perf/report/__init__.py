@@ -10,7 +10,7 @@ width 4/8/16) and the peers (:mod:`routines.perf.peers`), measures
   DRAM sizes, one thread, and two threads at the DRAM size for the kernels
   reactor builds, with the clock calibrated at the start and the end
   (:mod:`routines.perf.clock`);
-* the **dataflow model** of every variant (:mod:`routines.perf.model`): its
+* the **dataflow model** of every variant (:mod:`reactor.cost`): its
   throughput bound (execution pipes) and, from the same graph, a *window*
   bound (:func:`window_bound`), with a note saying where the variant spends;
 

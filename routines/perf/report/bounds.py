@@ -6,7 +6,7 @@ function of cycles/vector figures; :func:`attach_gaps` sets ``variant["gap"]``
 (the verdict at the L1 and L2 sizes, and the model table it was judged
 against) on every variant that has timings. The latencies and the core
 figures (``FP_SCHEDULER``, ``DISPATCH``) are those of the model's table for
-this host (:func:`routines.perf.model.host_machine`: Zen 3/4/5, Golden Cove,
+this host (:func:`reactor.cost.host_machine`: Zen 3/4/5, Golden Cove,
 Sunny Cove, Skylake-X, Haswell, Neoverse V1, or the stated generic
 assumption), the same table the variants' predictions use.
 """
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from .. import model as M
+from reactor.cost import model as M
 from .speed import cycles_per_element as _cy
 
 #: The model's table for this host: its name goes with every bound and verdict.

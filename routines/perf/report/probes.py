@@ -80,7 +80,7 @@ def probe_kernels() -> list[dict]:
                            width=width, fma=True)
         out.append({"key": key, "func": "exp2", "kind": "probe", "family": "probe", "width": width,
                     "ufunc": u, "wait_op_cycles": window_bound(u)["wait_op_cycles"]})
-    from ..model import predict_kernel
+    from reactor.cost import predict_kernel
     out[0]["model_cycles_per_vector"] = predict_kernel(out[0]["ufunc"]).throughput_bound
     return out
 

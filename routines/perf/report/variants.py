@@ -36,7 +36,7 @@ def build_variants(functions, progress=None) -> list[dict]:
     """Every variant of ours with its ufunc and model figures."""
     from routines import jit
 
-    from ..model import predict_kernel
+    from reactor.cost import predict_kernel
 
     out = []
     has_fma = reactor.get_target("host").has_fma

@@ -685,13 +685,12 @@ def predict(optimized_ir: str, function: str, width: int, machine=None, issue_wi
 def predict_kernel(ufunc, machine=None) -> Prediction:
     """``predict`` for a reactor kernel (its ``<name>.loop`` function), on ``machine`` (default
     the host's table)."""
-    from reactor import kernel_of
+    from ..kernels.kernel import kernel_of
     kern = kernel_of(ufunc)
     return predict(kern.optimized_ir, f"{kern.name}.loop", kern.build.width, machine)
 
 
 def kernel_cycles(kern, machine=None) -> float:
     """Cycles per element of a ``reactor.Kernel``'s vector loop on ``machine`` (default the
-    host's table): the cost ``reactor.plan`` ranks builds by (registered as the entry point
-    ``reactor.kernel_costs``)."""
+    host's table): the cost ``reactor.plan`` ranks builds by."""
     return predict(kern.optimized_ir, f"{kern.name}.loop", kern.build.width, machine).cycles_per_element

@@ -104,7 +104,8 @@ def identify(info: dict) -> Microarchitecture:
 def cpu_model() -> dict:
     """Vendor, family, model and model name from /proc/cpuinfo, LLVM's host CPU
     name, and the microarchitecture row chosen from them (``uarch``, ``known``)."""
-    info = {"vendor": None, "family": None, "model": None, "name": None, "machine": platform.machine()}
+    info: dict[str, object] = {"vendor": None, "family": None, "model": None, "name": None,
+                               "machine": platform.machine()}
     keys = {"vendor_id": "vendor", "cpu family": "family", "model": "model", "model name": "name"}
     try:
         with open("/proc/cpuinfo") as f:

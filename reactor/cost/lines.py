@@ -1,11 +1,10 @@
 """The dataflow model's cost of each instruction of a kernel's vector loop, for ``reactor.explain``.
 
-Registered as the entry point ``reactor.explain_costs`` (pyproject.toml), so
 ``reactor.explain`` and ``python -m reactor explain`` show, per source line, the
 operations by class (pipe), its share of the iteration's pipe time (slots times the
 cycles each keeps its pipe busy: a divide weighs more than an add) and
 whether the line is on the critical path: the longest latency chain through one
-iteration (``routines.perf.model``, the same model as the report's). The machine is the
+iteration (``reactor.cost.model``, the same model as the report's). The machine is the
 host's table (``model.host_machine``) unless one is given; the summary names it.
 """
 from __future__ import annotations
