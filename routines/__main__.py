@@ -35,6 +35,8 @@ COMMANDS = {
     "pixels": "routines.cli.pixels",
     "ladder": "routines.cli.ladder",
 }
+#: what the laboratory needs beyond the library (the ``lab`` extra)
+LAB_DEPENDENCIES = ("mpmath", "tqdm", "matplotlib")
 USAGE = "usage: python -m routines {" + ",".join(COMMANDS) + "} [options]"
 EXAMPLES = """examples:
   python -m routines report --quick
@@ -60,7 +62,15 @@ def _dispatch(argv: list[str]) -> int:
         return 2
     import importlib
 
-    return importlib.import_module(COMMANDS[argv[0]]).main(argv[1:])
+    try:
+        return importlib.import_module(COMMANDS[argv[0]]).main(argv[1:])
+    except ModuleNotFoundError as exc:
+        missing = (exc.name or "").split(".")[0]
+        if missing not in LAB_DEPENDENCIES:
+            raise
+        from .cli import CommandError
+        raise CommandError(f"python -m routines {argv[0]} needs {missing}, part of the laboratory's extra: "
+                           "pip install 'reactor-simd[lab]'") from None
 
 
 if __name__ == "__main__":

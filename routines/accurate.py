@@ -34,8 +34,6 @@ from __future__ import annotations
 
 import functools
 
-import mpmath
-
 import reactor
 from reactor import (
     Any, As, Fma, If, IsInf, IsNan, Precision, Round, Select, ShiftRightArithmetic, Trunc, ToInt, Variable,
@@ -43,6 +41,7 @@ from reactor import (
 )
 
 from . import doubled as dd
+from .constants import EXP2_SERIES_HIGH, EXP2_SERIES_LOW, LOG2_SERIES_HIGH, LOG2_SERIES_LOW
 from .base import DEFAULT_NAN_BITS, nan_rule, positive_normal
 from .polynomials import (
     EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL, LOG2_FAITHFUL_F,
@@ -69,23 +68,17 @@ def _types(width):
             vector_type("UInt", width))
 
 
-@functools.cache
 def _exp2_series():
     """2^r = sum (ln 2)^n / n! r^n, n <= 18 (remainder < 2^-86 for |r| <= 1/2), highest first:
     the terms from r^9 up in float64 (each below 2^-31, so their rounding stays below 2^-84),
-    the rest as double-double constants (mpmath, 60 digits)."""
-    with mpmath.workdps(60):
-        c = [mpmath.log(2) ** n / mpmath.factorial(n) for n in range(19)][::-1]
-        return [float(v) for v in c[:10]], [dd.constant(v) for v in c[10:]]
+    the rest as double-double constants (``routines.constants``: mpmath, 60 digits)."""
+    return EXP2_SERIES_HIGH, EXP2_SERIES_LOW
 
 
-@functools.cache
 def _log2_series():
     """2 atanh(s) / (s ln 2) = sum 2 / ((2n+1) ln 2) z^n, z = s^2 <= 0.04, n <= 17 (remainder
-    < 2^-80); from z^6 up in float64, the rest as double-double constants."""
-    with mpmath.workdps(60):
-        c = [2 / ((2 * n + 1) * mpmath.log(2)) for n in range(18)][::-1]
-        return [float(v) for v in c[:12]], [dd.constant(v) for v in c[12:]]
+    < 2^-80); from z^6 up in float64, the rest as double-double constants (``routines.constants``)."""
+    return LOG2_SERIES_HIGH, LOG2_SERIES_LOW
 
 
 def _double_horner(x, coefficients):

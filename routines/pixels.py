@@ -35,6 +35,7 @@ import reactor
 from reactor import ConstantTable, DSLTypeError, Float, Max, Min, Round, Select, UByte, UShort
 
 from .base import float_value
+from .constants import SRGB8_DECODE_BITS, SRGB8_THRESHOLD_BITS
 from .power import pow as _pow
 
 #: name: (storage kind, maximum code, signed)
@@ -141,19 +142,9 @@ def exact_code(x: float, mp) -> int:
 @functools.lru_cache(maxsize=1)
 def srgb8_thresholds() -> np.ndarray:
     """T[k] (k = 0..254): the smallest float32 whose sRGB8 code is k + 1 (mpmath, 60 digits):
-    code(T[k]) = k + 1 and code(prevfloat(T[k])) = k, both checked."""
-    import mpmath
-    with mpmath.workdps(60):
-        out = np.empty(255, np.float32)
-        for k in range(255):
-            t = srgb_decode_exact(mpmath.mpf(k) / 255 + mpmath.mpf(1) / 510, mpmath.mp)
-            x = np.float32(float(t))
-            while exact_code(float(x), mpmath.mp) < k + 1:
-                x = np.nextafter(x, np.float32(2))
-            while exact_code(float(np.nextafter(x, np.float32(-1))), mpmath.mp) >= k + 1:
-                x = np.nextafter(x, np.float32(-1))
-            out[k] = x
-    return out
+    code(T[k]) = k + 1 and code(prevfloat(T[k])) = k, both checked (``routines.constants``;
+    ``python -m routines.lab.constants`` recomputes it)."""
+    return np.array(SRGB8_THRESHOLD_BITS, np.uint32).view(np.float32)
 
 
 @functools.lru_cache(maxsize=1)
@@ -164,11 +155,9 @@ def _encode_table() -> ConstantTable:
 
 @functools.lru_cache(maxsize=1)
 def srgb8_decode_table() -> np.ndarray:
-    """The correctly rounded float32 of sRGB^-1(k / 255), k = 0..255 (mpmath, 60 digits)."""
-    import mpmath
-    with mpmath.workdps(60):
-        return np.array([float(srgb_decode_exact(mpmath.mpf(k) / 255, mpmath.mp)) for k in range(256)],
-                        np.float64).astype(np.float32)  # 60 digits to double: correctly rounded to float32
+    """The correctly rounded float32 of sRGB^-1(k / 255), k = 0..255 (mpmath, 60 digits;
+    ``routines.constants``)."""
+    return np.array(SRGB8_DECODE_BITS, np.uint32).view(np.float32)
 
 
 @functools.lru_cache(maxsize=1)
