@@ -35,7 +35,7 @@ from .ir.types import KINDS, WIDTHS
 from .kernels.kernel import Kernel, kernel, kernel_of
 from .kernels.chunks import map_blocks
 from .kernels.emulated import Emulator, missing as emulator_missing, run as run_emulated
-from .kernels.travel import travels_as
+from .kernels.pickling import travels_as  # also registers how reactor ufuncs pickle
 from .explain import explain
 from .planner import Plan, PlanStaleError, Range, Rows, plan
 from .kernels.parallel import configure as configure_threads, settings as thread_settings

@@ -3,7 +3,7 @@
 A body is sent as where it lives (module and qualified name) and, when that home cannot be
 imported on the other side (``__main__``, a notebook, a dask worker), as the body itself: by
 value through cloudpickle where it is installed, else by its source with the plain values and
-importable names it reads. ``reactor.kernels.travel`` and ``reactor.runtime.function`` use it.
+importable names it reads. ``reactor.kernels.pickling`` and ``reactor.runtime.function`` use it.
 """
 from __future__ import annotations
 

@@ -56,3 +56,10 @@ def line_costs(optimized_ir: str, function: str, width: int, machine=None):
                "bound": prediction.throughput_bound, "bottleneck": prediction.bottleneck,
                "critical_path": prediction.critical_path}
     return per_instruction, summary
+
+
+def summary_text(summary: dict) -> str:
+    """One line for the summary ``line_costs`` returns."""
+    return (f"model ({summary.get('machine', '?')}): {summary.get('ops', 0)} operations a vector, throughput bound "
+            f"{summary.get('bound', 0):.2f} cycles a vector ({summary.get('bottleneck', '?')}), critical path "
+            f"{summary.get('critical_path', 0):.0f} cycles")

@@ -28,6 +28,11 @@ if typing.TYPE_CHECKING:
     from .vectors import Vec
 
 
+#: Select's forms for composite DSL types: class -> select(mask, a, b) (``reactor.dsl.vectors``
+#: registers the GLSL vectors' own at import)
+SELECT_FORMS: dict[type, Callable] = {}
+
+
 def _binary_fn(op: str, doc: str) -> Callable[[Operand, Operand], Value]:
     def fn(a: Operand, b: Operand) -> Value:
         return binary(op, a, b, what=fn.__name__)
@@ -89,9 +94,9 @@ def Select(mask: Value, a: Operand, b: Operand) -> Value: ...
 def Select(mask: typing.Any, a: typing.Any, b: typing.Any) -> typing.Any:
     """Lane-wise ``mask ? a : b``; a scalar Bool mask selects whole vectors; GLSL vectors
     (``vec3`` ...) per component, with a Bool mask or a ``bvec`` of their size."""
-    from .vectors import Vec, select as select_vectors
-    if isinstance(a, Vec) or isinstance(b, Vec):
-        return select_vectors(mask, a, b)
+    for cls, select in SELECT_FORMS.items():
+        if isinstance(a, cls) or isinstance(b, cls):
+            return select(mask, a, b)
     if not isinstance(mask, Value) or mask.kind.category != "bool":
         raise DSLTypeError(f"Select needs a Bool mask as first argument, not {mask!r}")
     if not isinstance(a, Value) and not isinstance(b, Value):  # two constants: their Python kind

@@ -131,12 +131,6 @@ def lanes_of(em=None) -> Lanes:
     return em.lanes
 
 
-def active_mask() -> Value | None:
-    """The active lanes at the cursor (None: all of them, uniform control)."""
-    em = _em.current()
-    return None if em.lanes is None else em.lanes.active()
-
-
 def is_varying(cond) -> bool:
     """Whether a condition is a per-lane mask (a Bool of more than one lane)."""
     return isinstance(cond, Value) and cond.kind.category == "bool" and cond.width > 1

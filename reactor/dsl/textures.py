@@ -38,6 +38,7 @@ from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, Kind, VType
+from .context import active_mask
 from .values import Value, value_class
 
 WRAPS = ("clamp", "repeat", "mirror", "border")
@@ -187,7 +188,6 @@ class TextureValue:
 
     def _texels(self, coords, normalize: bool):
         """Gather the texels at integer ``coords`` (x first) with the wrap mode."""
-        from .lanes import active_mask
         em = _em.current()
         spec = self.spec
         coords = [_as_int(c) for c in coords]

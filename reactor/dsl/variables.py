@@ -24,6 +24,7 @@ from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import PointerType, VType
+from .context import active_mask
 from .values import Operand, Value, binary, to_ir, value_class
 
 
@@ -55,7 +56,6 @@ class _VariableMixin:
     def set(self, value: Operand) -> Value:
         """Store ``value`` (converted only if it is a Python constant or a broadcast scalar); under
         a per-lane condition, in the active lanes only."""
-        from .lanes import active_mask
         em = _em.current()
         new = to_ir(value, self.vtype)
         mask = active_mask()
@@ -114,6 +114,11 @@ def per_lane(vtype: VType) -> VType:
     return vtype
 
 
+#: Variable's forms for composite DSL types: class -> variable(type_or_value, init, name)
+#: (``reactor.dsl.vectors`` registers the GLSL vectors' own at import)
+VARIABLE_FORMS: dict[type, typing.Callable] = {}
+
+
 @typing.overload
 def Variable(type_or_value: type[Vec] | Vec, init: typing.Any = None, name: str = "var", *,
              uniform: bool = False) -> Vec: ...
@@ -127,9 +132,9 @@ def Variable(type_or_value: typing.Any, init: typing.Any = None, name: str = "va
     body ``Variable(Float, 0.0)`` holds one value per lane (the body's width), unless
     ``uniform=True`` (one value for every lane, as a loop counter); ``Variable(vec3, 0.0)``
     is a vector variable (components per lane too)."""
-    from .vectors import Vec, vector_variable
-    if isinstance(type_or_value, Vec) or isinstance(type_or_value, type) and issubclass(type_or_value, Vec):
-        return vector_variable(type_or_value, init, name)
+    for cls, variable in VARIABLE_FORMS.items():
+        if isinstance(type_or_value, cls) or isinstance(type_or_value, type) and issubclass(type_or_value, cls):
+            return variable(type_or_value, init, name)
     if isinstance(type_or_value, Value):
         if init is not None:
             raise DSLTypeError("Variable(value) takes its initial value from the value; "
@@ -186,7 +191,6 @@ class PointerValue:
     def _lanes(self, index: Value, what: str):
         """Per-lane element offsets (bytes) and the mask of the lanes whose index is inside the
         declared length: a gather or scatter never touches memory outside the array."""
-        from .lanes import active_mask
         em, base = self._ptr()
         if self.ptype.pointee.width != 1:
             raise DSLTypeError(f"per-lane indices are for pointers to scalars, not {self.ptype.name}")
@@ -217,7 +221,6 @@ class PointerValue:
         return value_class(vt)._wrap(ops.load(em, vt, addr), em)
 
     def _store(self, index, value, vt: VType):
-        from .lanes import active_mask
         if isinstance(index, Value) and index.width > 1 and index.kind.is_integer:
             em, base, offsets, inside, lanes_vt = self._lanes(index, "writing")
             self.written = True

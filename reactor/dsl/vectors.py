@@ -27,7 +27,9 @@ import typing
 from ..errors import DSLTypeError, ScopeError
 from ..ir import emitter as _em
 from ..ir.types import KINDS, Kind, VType
+from .intrinsics import SELECT_FORMS, Select
 from .values import Value, binary, comparison, unary, value_class
+from .variables import VARIABLE_FORMS, Variable, per_lane
 
 _SWIZZLE_SETS = ("xyzw", "rgba", "stpq")
 _OPERATORS = {
@@ -414,7 +416,6 @@ else:
 
 def select(mask, a, b):
     """``Select`` for vectors: per component (``mask`` a Bool value, or a bvec of the same size)."""
-    from .intrinsics import Select
     size = next(v.size for v in (a, b) if isinstance(v, Vec))
     kind = next(v.kind for v in (a, b) if isinstance(v, Vec))
     masks = mask._c if isinstance(mask, Vec) else [mask] * size
@@ -484,8 +485,6 @@ _VAR_TYPES: dict[type, type[Vec]] = {}
 
 def vector_variable(type_or_value, init=None, name: str = "var"):
     """``Variable(vec3, 0.0)``, ``Variable(vec3)`` (zeros) or ``Variable(v)`` for a vector ``v``."""
-    from .variables import Variable, per_lane
-
     if isinstance(type_or_value, Vec):
         cls, init = type(type_or_value), type_or_value
     else:
@@ -505,3 +504,7 @@ def vector_variable(type_or_value, init=None, name: str = "var"):
         var_cls = _VAR_TYPES[cls] = type(f"Variable[{cls.__name__}]", (_VecVariable, cls),
                                          {"__slots__": (), "__module__": "reactor"})
     return var_cls._of(comps)
+
+
+SELECT_FORMS[Vec] = select  # Select and Variable of GLSL vectors: per component
+VARIABLE_FORMS[Vec] = vector_variable

@@ -24,7 +24,7 @@ import re
 import dataclasses
 import typing
 
-from ..cost.lines import line_costs
+from ..cost.lines import line_costs, summary_text
 from ..errors import ReactorError
 from .listing import Instruction, parse_asm, parse_ir, source_line
 
@@ -71,7 +71,7 @@ class Explanation:
         """A terminal view: each line's Python, its IR and assembly, and its cost."""
         out = [f"{self.name}: {self.settings}"]
         if self.costs:
-            out.append(_costs_summary(self.costs))
+            out.append(summary_text(self.costs))
         for row in self.lines:
             cost = _cost_text(row.cost)
             out.append("")
@@ -242,8 +242,3 @@ def _cost_text(cost: dict) -> str:
     ops = ", ".join(f"{n} {c}" for c, n in sorted(cost["ops"].items(), key=lambda kv: -kv[1]))
     return f"; {ops}; {cost['share']:.0%} of the work{'; on the critical path' if cost['critical'] else ''}"
 
-
-def _costs_summary(costs: dict) -> str:
-    return (f"model ({costs.get('machine', '?')}): {costs.get('ops', 0)} operations a vector, throughput bound "
-            f"{costs.get('bound', 0):.2f} cycles a vector ({costs.get('bottleneck', '?')}), critical path "
-            f"{costs.get('critical_path', 0):.0f} cycles")

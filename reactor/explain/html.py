@@ -13,6 +13,8 @@ from __future__ import annotations
 import html
 import json
 
+from ..cost.lines import summary_text
+
 _STYLE = """
 body { font: 13px/1.35 system-ui, sans-serif; margin: 0; color: #222; }
 header { padding: 8px 14px; background: #f3f3f3; border-bottom: 1px solid #ccc; }
@@ -86,8 +88,7 @@ def page(explanation, diff=None) -> str:
     e = explanation
     head = f"<h1>{_e(e.name)}</h1><div>{_e(e.settings)}</div>"
     if e.costs:
-        from . import _costs_summary
-        head += f"<div>{_e(_costs_summary(e.costs))}</div>"
+        head += f"<div>{_e(summary_text(e.costs))}</div>"
     source: list[str] = []
     ir: list[str] = []
     asm: list[str] = []

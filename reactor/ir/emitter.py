@@ -604,6 +604,52 @@ class FunctionEmitter:
     def cbranch(self, cond, then_block: ir.Block, else_block: ir.Block):
         return self._b.cbranch(cond, then_block, else_block)
 
+    # -- structured control for plumbing code (llvmlite's if_then/if_else are the model) ----
+    @contextlib.contextmanager
+    def if_then(self, cond, name: str = "if"):
+        """``with em.if_then(cond):`` the block's code runs where ``cond`` (an i1) holds; after
+        the block, code continues where both paths meet."""
+        then, merge = self.new_block(f"{name}.then"), self.new_block(f"{name}.end")
+        self.cbranch(cond, then, merge)
+        self.goto(then)
+        yield
+        self.branch_to(merge)
+        self.goto(merge)
+
+    @contextlib.contextmanager
+    def if_else(self, cond, name: str = "if"):
+        """``with em.if_else(cond) as (then, otherwise):`` then ``with then: ...`` and ``with
+        otherwise: ...``; after the block, code continues where the paths meet."""
+        then, other, merge = self.new_block(f"{name}.then"), self.new_block(f"{name}.else"), self.new_block(f"{name}.end")
+        self.cbranch(cond, then, other)
+
+        @contextlib.contextmanager
+        def arm(block):
+            self.goto(block)
+            yield
+            self.branch_to(merge)
+
+        yield arm(then), arm(other)
+        self.goto(merge)
+
+    @contextlib.contextmanager
+    def counting(self, start, stop, name: str = "for"):
+        """``with em.counting(start, stop) as j:`` the block runs for j = start, start + 1, ...
+        while j < stop (signed i64 values, or Python ints)."""
+        start, stop = (T.const(T.INDEX, v) if isinstance(v, int) else v for v in (start, stop))
+        slot = self.alloca(T.INDEX, f"{name}.j")
+        self.store(start, slot)
+        head, each, done = self.new_block(f"{name}.cond"), self.new_block(f"{name}.each"), self.new_block(f"{name}.done")
+        self.branch(head)
+        self.goto(head)
+        self.cbranch(self.icmp("<", self.load(slot, name="j"), stop, signed=True), each, done)
+        self.goto(each)
+        j = self.load(slot, name="j")
+        yield j
+        self.store(self._binary("add", j, T.const(T.INDEX, 1), "next"), slot)
+        self.branch(head)
+        self.goto(done)
+
     def always_take(self, branch) -> None:
         """Make a conditional branch (from ``cbranch``) always go to its first target (LLVM then
         drops the test and the other edge)."""

@@ -3,7 +3,7 @@
 An elementwise kernel with one result needs nothing: ``kernel(dask_array)`` goes through dask's
 ``__array_ufunc__`` and gives a lazy dask array that computes, chunk by chunk, the same bits as
 on a NumPy array (threads, processes or a ``distributed`` cluster: kernels pickle as their
-recipe, ``reactor.kernels.travel``). ``map_blocks`` covers what dask's own path cannot: kernels
+recipe, ``reactor.kernels.pickling``). ``map_blocks`` covers what dask's own path cannot: kernels
 with vector operands (NumPy gufuncs whose core dimensions have fixed sizes such as
 ``(3),()->(4)``, which dask's ``apply_gufunc`` cannot parse) and kernels with several results.
 """

@@ -30,7 +30,7 @@ import typing
 import numpy as np
 
 from ..errors import ReactorError
-from . import parallel
+from . import abi, parallel
 
 TARGET = "aarch64"
 TRIPLE_PREFIX = "aarch64-linux-gnu"
@@ -43,9 +43,7 @@ _DRIVER = r"""
 #include <stdlib.h>
 
 typedef void (*loop_fn)(char **, int64_t *, int64_t *, void *);
-struct settings { int64_t threads, threshold, min_work; void *parallel_for, *prepare, *gil_ensure, *err_set,
-                  *gil_release, *runtime_error, *move; };
-struct config { struct settings *settings; int64_t nargs, cycles; const char **messages; int64_t ndims; };
+%(structs)s
 extern char reactor_prepare[], reactor_move[];
 %(externs)s
 static loop_fn kernels[] = {%(table)s};
@@ -65,8 +63,10 @@ int main(int argc, char **argv) {
     if (argc != 3) { fprintf(stderr, "usage: %%s calls.bin results.bin\n", argv[0]); return 2; }
     FILE *in = fopen(argv[1], "rb"), *out = fopen(argv[2], "wb");
     if (!in || !out) { perror("driver"); return 2; }
-    struct settings settings = {1, INT64_MAX, INT64_MAX, NULL, reactor_prepare, (void *)gil_ensure,
-                                (void *)err_set, (void *)gil_release, NULL, reactor_move};
+    struct settings settings = {.threads = 1, .threshold = INT64_MAX, .min_work = INT64_MAX,
+                                .prepare = reactor_prepare, .gil_ensure = (void *)gil_ensure,
+                                .err_set = (void *)err_set, .gil_release = (void *)gil_release,
+                                .move = reactor_move};
     int64_t calls = get(in);
     for (int64_t c = 0; c < calls; c++) {
         int64_t which = get(in), nargs = get(in), nin = get(in), n = get(in);
@@ -78,7 +78,8 @@ int main(int argc, char **argv) {
                 fprintf(stderr, "driver: truncated operand\n"); return 2;
             }
         }
-        struct config config = {&settings, nargs, 256, no_messages, 1};
+        struct config config = {.settings = &settings, .nargs = nargs, .cycles_per_element = 256,
+                                .messages = no_messages, .ndims = 1};
         kernels[which](args, dims, steps, &config);
         for (int64_t k = nin; k < nargs; k++) fwrite(args[k], 1, (size_t)bytes[k], out);
         for (int64_t k = 0; k < nargs; k++) free(args[k]);
@@ -139,6 +140,7 @@ class Emulator:
             objects.append(path)
         count = len(self.kernels)
         driver = _DRIVER % {
+            "structs": "\n".join(s.c for s in (abi.SETTINGS, abi.LOOP_CONFIG)),
             "externs": "\n".join(f"extern void reactor_kernel{i}(char **, int64_t *, int64_t *, void *);"
                                  for i in range(count)),
             "table": ", ".join(f"reactor_kernel{i}" for i in range(count))}

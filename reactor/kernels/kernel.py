@@ -74,7 +74,7 @@ class Kernel(ShowsCode):
 
     ufunc_ref: "_UfuncRef"  # set when its ufunc is made
     routines: "list[RoutineCall]"
-    config: "parallel.LoopConfig | parallel.ErrorLoop"  # the ufunc loop's data
+    config: "ctypes.Structure"  # the ufunc loop's data: an abi.LOOP_CONFIG or abi.ERROR_LOOP
 
     def __init__(self, body, name: str, signature: Signature, build: Build):
         self.name, self.build, self.signature = name, build, signature
@@ -320,7 +320,7 @@ def _kind(token: str, text: str):
 
 class Kernels:
     """The kernels of one ufunc, one per signature (what the ufunc owns), and how the ufunc
-    travels (``reactor.kernels.travel``: pickled as its recipe)."""
+    travels (``reactor.kernels.pickling``: pickled as its recipe)."""
 
     def __init__(self, kernels: list[Kernel]):
         self.kernels = kernels
@@ -408,5 +408,3 @@ def kernel_of(ufunc: np.ufunc, types: str | typing.Sequence[typing.Any] | None =
             return k
     raise ReactorError(f"{ufunc.__name__} has no loop for {types!r}; it has {', '.join(ufunc.types)}")
 
-
-from . import travel as _travel  # noqa: E402,F401 - registers the pickling of reactor ufuncs

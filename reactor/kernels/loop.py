@@ -41,18 +41,10 @@ from ..ir import fpenv, ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
 from ..dsl.limits import STATUS, messages_of
-from .parallel import CYCLES_SCALE, MOVE_PARAMS
+from . import abi
 
 BOOL = KINDS["Bool"]
 BOOL_MEM = VType(T.BYTE_KIND, 1)
-LOOP_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), T.BYTES]
-LOOP_NAMES = ["args", "dims", "steps", "data"]
-#: The runtime's settings and a kernel's LoopConfig (reactor.kernels.parallel), as the IR sees them.
-SETTINGS = T.StructType((INDEX, INDEX, INDEX, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES, T.BYTES))
-_CONFIG = T.StructType((T.Address(SETTINGS), INDEX, INDEX, T.BYTES_ARRAY, INDEX))
-#: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes)
-PREPARE_PARAMS = [T.BYTES_ARRAY, T.PointerType(INDEX), T.PointerType(INDEX), INDEX, INDEX, T.PointerType(INDEX),
-                  INDEX, T.BYTES_ARRAY, T.PointerType(INDEX), T.BYTES, INDEX]
 
 
 def _idx(v: int):
@@ -152,7 +144,7 @@ class LoopEmitter:
         self.n_in_columns = sum(1 for o in self.ins if not o.uniform)
         self.core_dims, self.core_strides, self.ndims = core_layout(self.ins, self.outs)
         # Out of line: the dispatcher calls it, and inlining it there would double the machine code.
-        self.em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES, width=width, inline="never")
+        self.em = _em.FunctionEmitter(module, name, None, abi.LOOP.params, abi.LOOP.names, width=width, inline="never")
 
     # -- index arithmetic, through the op table ---------------------------------
     def _add(self, a, b):
@@ -243,14 +235,14 @@ class LoopEmitter:
                 fits.append(self._cmp("eq", self._channel_stride(k), _idx(o.kind.mem_bytes)))
             if o.uniform:
                 fits.append(self._cmp("eq", self.steps[k], _idx(0)))
-        settings = em.load(em.field(em.cast_pointer(data, _CONFIG), 0), name="settings")
-        prepare = em.load(em.field(settings, 4), name="prepare")
+        settings = abi.LOOP_CONFIG.load(em, abi.LOOP_CONFIG.of(em, data), "settings")
+        prepare = abi.SETTINGS.load(em, settings, "prepare")
         dims1 = em.alloca(INDEX, "n.only")
         em.store(self.n, dims1)
         ask, skip, go = em.new_block("layout"), em.new_block("layout.no"), em.new_block("layout.done")
         em.cbranch(self._all(fits), ask, skip)
         em.goto(ask)
-        asked = em.call_pointer(prepare, INDEX, PREPARE_PARAMS,
+        asked = em.call_pointer(prepare, INDEX, abi.PREPARE.params,
                                 [cargs, dims1, csteps, _idx(self.n_in_columns), _idx(ncol), sizes, _idx(W), srcs,
                                  incs, em.cast_pointer(splats, T.BYTE), _idx(lane_bytes)], name="n.fast")
         em.branch(go)
@@ -268,7 +260,7 @@ class LoopEmitter:
             # Chunks: the elements the vector loop reads in place (0 .. n.fast), then the others, W
             # (or, for accumulations, 1) at a time through W-lane buffers (reactor_move), each run of
             # the one inner loop below, which holds the one copy of the body.
-            move = em.load(em.field(settings, 9), name="move")
+            move = abi.SETTINGS.load(em, settings, "move")
             columns = self._move_columns(cols, W)
             count, moved, gathering = (em.alloca(INDEX, "run.count"), em.alloca(INDEX, "run.k"),
                                        em.alloca(BOOL_MEM, "run.gathered"))
@@ -287,7 +279,7 @@ class LoopEmitter:
             run = em.new_block("run")
             em.branch(run)
             em.goto(gather)
-            k = em.call_pointer(move, INDEX, MOVE_PARAMS, [_idx(0)] + columns + [i, self.n, _idx(0)] +
+            k = em.call_pointer(move, INDEX, abi.MOVE.params, [_idx(0)] + columns + [i, self.n, _idx(0)] +
                                 self._move_buffer, name="chunk.k")
             em.store(k, moved)
             em.store(_idx(1), count)
@@ -336,7 +328,7 @@ class LoopEmitter:
         em.goto(out)
         i = em.load(self.i, name="i")
         k = em.load(moved, name="k")
-        em.call_pointer(move, INDEX, MOVE_PARAMS, [_idx(1)] + columns + [i, self.n, k] + self._move_buffer,
+        em.call_pointer(move, INDEX, abi.MOVE.params, [_idx(1)] + columns + [i, self.n, k] + self._move_buffer,
                         name="moved")
         em.store(self._add(i, k), self.i)
         em.branch(after)
@@ -453,35 +445,29 @@ def _raise_runaway(em, data) -> None:
     report, done = em.new_block("runaway"), em.new_block("return")
     em.cbranch(ops.compare(em, i32, "ne", old, T.const(i32, 0)), report, done)
     em.goto(report)
-    cfg = em.cast_pointer(data, _CONFIG, name="config")
-    settings = em.load(em.field(cfg, 0), name="settings")
-    message = em.load(em.address(em.load(em.field(cfg, 3), name="messages"),
-                                 ops.convert(em, i32, INDEX, ops.binary(em, "sub", i32, old, T.const(i32, 1)))),
-                      name="message")
-    ensure, set_error, release, exc = (em.load(em.field(settings, k), name=n) for k, n in
-                                       ((5, "gil.ensure"), (6, "err.set"), (7, "gil.release"), (8, "exc")))
-    state = em.call_pointer(ensure, i32, [], [], name="gil")
-    em.call_pointer(set_error, None, [T.BYTES, T.BYTES], [exc, message])
-    em.call_pointer(release, None, [i32], [state])
+    cfg = abi.LOOP_CONFIG.of(em, data)
+    settings, messages = abi.LOOP_CONFIG.load(em, cfg, "settings", "messages")
+    which = ops.convert(em, i32, INDEX, ops.binary(em, "sub", i32, old, T.const(i32, 1)))
+    message = em.load(em.address(messages, which), name="message")
+    abi.raise_python_error(em, settings, abi.SETTINGS.load(em, settings, "runtime_error"), message)
     em.branch(done)
     em.goto(done)
 
 
 def emit_dispatcher(module, name: str, serial) -> object:
     """``<name>.ufunc``: the loop NumPy calls. ``data`` points to the kernel's
-    ``parallel.LoopConfig``; a call worth splitting (see ``parallel``) goes to the
+    ``abi.LOOP_CONFIG``; a call worth splitting (see ``parallel``) goes to the
     native ``reactor_parallel_for``, every other one straight to ``serial``."""
-    em = _em.FunctionEmitter(module, name, None, LOOP_PARAMS, LOOP_NAMES)
+    em = _em.FunctionEmitter(module, name, None, abi.LOOP.params, abi.LOOP.names)
     with em:
         args, dims, steps, data = em.params
-        cfg = em.cast_pointer(data, _CONFIG, name="config")
-        settings = em.load(em.field(cfg, 0), name="settings")
-        nargs, cycles = (em.load(em.field(cfg, k), name=n) for k, n in ((1, "nargs"), (2, "cycles")))
-        threads, threshold, min_work = (em.load(em.field(settings, k), name=n)
-                                        for k, n in enumerate(("threads", "threshold", "min_work")))
+        cfg = abi.LOOP_CONFIG.of(em, data)
+        settings, nargs, cycles, ndims = abi.LOOP_CONFIG.load(em, cfg, "settings", "nargs", "cycles_per_element",
+                                                              "ndims")
+        threads, threshold, min_work = abi.SETTINGS.load(em, settings, "threads", "threshold", "min_work")
         n = em.load(dims, name="n")
         work = ops.binary(em, "mul", INDEX, n, cycles)
-        budget = ops.binary(em, "mul", INDEX, min_work, _idx(CYCLES_SCALE))
+        budget = ops.binary(em, "mul", INDEX, min_work, _idx(abi.CYCLES_SCALE))
         split = []
         for cond in (("gt", threads, _idx(1)), ("ge", n, threshold), ("ge", work, budget)):
             split.append(ops.compare(em, INDEX, *cond))
@@ -490,9 +476,8 @@ def emit_dispatcher(module, name: str, serial) -> object:
         parallel, serial_block = em.new_block("parallel"), em.new_block("serial")
         em.cbranch(worth, parallel, serial_block)
         em.goto(parallel)
-        parallel_for = em.load(em.field(settings, 3), name="parallel_for")
-        ndims = em.load(em.field(cfg, 4), name="ndims")
-        em.call_pointer(parallel_for, None, [T.BYTES] + LOOP_PARAMS + [INDEX, INDEX, INDEX],
+        parallel_for = abi.SETTINGS.load(em, settings, "parallel_for")
+        em.call_pointer(parallel_for, None, abi.PARALLEL_FOR.params,
                         [em.function_address(serial, name="serial"), args, dims, steps, data, nargs, threads, ndims])
         done = em.new_block("done")
         em.branch(done)

@@ -124,7 +124,7 @@ class Plan:
         """The kernel ``ufunc`` built with this plan's sites, after checking that the plan was
         made for it as it is now (same reference code, same source at every planned line);
         ``PlanStaleError`` otherwise (plan again)."""
-        from .. import kernel_of
+        from ..kernels.kernel import kernel_of
         from ..kernels.kernel import build_kernel
         k = kernel_of(ufunc)
         reference = _rebuild(k, build_kernel, (), TIERS[-1])
@@ -144,7 +144,7 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
     ``samples``: rows of a sampled check; ``max_rows``: the largest domain checked exhaustively;
     ``timing_rows``: elements each build is timed on (the check rows, repeated); ``fma``: the
     FMA setting of every build (None: the kernel's)."""
-    from .. import kernel_of
+    from ..kernels.kernel import kernel_of
     t0 = time.perf_counter()
     log = print if progress else None
     search = Search(ufunc, dict(inputs), output, samples=samples, seed=seed, max_rows=max_rows, fma=fma, log=log)

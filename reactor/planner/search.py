@@ -49,7 +49,7 @@ class Search:
 
     def __init__(self, ufunc, inputs: dict, output, *, samples: int, seed: int, max_rows: int,
                  fma: bool | None, log: typing.Callable[[str], None] | None):
-        from .. import kernel_of
+        from ..kernels.kernel import kernel_of
         self.kernel = kernel_of(ufunc)
         self.log = log or (lambda text: None)
         self.output = output if isinstance(output, Output) else Output(output)
@@ -82,7 +82,7 @@ class Search:
     # -- builds and runs ------------------------------------------------------------------
     @staticmethod
     def kernel_of(ufunc):
-        from .. import kernel_of
+        from ..kernels.kernel import kernel_of
         return kernel_of(ufunc)
 
     def build(self, sites: tuple, precision: str) -> Candidate:

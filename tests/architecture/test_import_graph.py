@@ -1,8 +1,10 @@
 """The import graph matches docs/architecture.md: arrows only point down, llvmlite
-is spoken only behind the seam, and no private name crosses a package boundary.
+is spoken only behind the seam, no private name crosses a package boundary, and no import
+cycle exists inside reactor.
 
 Every module of the shipped packages (reactor, routines) is parsed (not imported);
-each import, including those inside functions, is an arrow."""
+each import, including those inside functions, is an arrow (not those under
+``if TYPE_CHECKING:``, which only annotations read)."""
 from __future__ import annotations
 
 import ast
@@ -43,6 +45,11 @@ def _imports(name: str, path: pathlib.Path):
     tree = ast.parse(path.read_text(), str(path))
     is_package = path.name == "__init__.py"
     for node in ast.walk(tree):
+        if _type_checking_only(node):  # imports for annotations only are never executed
+            for inner in ast.walk(node):
+                inner._type_only = True  # type: ignore[attr-defined]
+        if getattr(node, "_type_only", False):
+            continue
         if isinstance(node, ast.Import):
             for alias in node.names:
                 yield alias.name, [], node.lineno
@@ -54,6 +61,13 @@ def _imports(name: str, path: pathlib.Path):
             else:
                 module = node.module
             yield module, [a.name for a in node.names], node.lineno
+
+
+def _type_checking_only(node) -> bool:
+    """``if TYPE_CHECKING:`` or ``if typing.TYPE_CHECKING:``."""
+    test = getattr(node, "test", None) if isinstance(node, ast.If) else None
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
 
 
 def _layer(module: str):
@@ -100,6 +114,64 @@ def test_arrows_only_point_down_in_reactor():
             elif d[1] > s[1] or (d[1] == s[1] and d[0] != s[0] and 0 < s[1] < 4):
                 bad.append((src, target, line, f"{s[0]} (layer {s[1]}) -> {d[0]} (layer {d[1]})"))
     assert not bad, "\n".join(map(str, bad))
+
+
+def _reactor_graph() -> dict:
+    """reactor's modules -> {imported reactor module: line}, imports inside functions included;
+    ``from package import module`` is an arrow to the module (not to the package)."""
+    graph: dict = {}
+    for src, dst, names, line in EDGES:
+        if not (src.startswith("reactor") and dst and dst.startswith("reactor")):
+            continue
+        modules = [f"{dst}.{n}" for n in names if f"{dst}.{n}" in MODULES]
+        for target in modules + ([dst] if len(modules) < len(names) or not names else []):
+            if target in MODULES and target != src:
+                graph.setdefault(src, {}).setdefault(target, line)
+    return graph
+
+
+def _cycles(graph: dict) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index: dict = {}
+    low: dict = {}
+    stack: list = []
+    found: list = []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in graph.get(v, {}):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_import_cycle_inside_reactor():
+    graph = _reactor_graph()
+    cycles = _cycles(graph)
+    text = [" -> ".join(c) + ": " + ", ".join(f"{a}:{graph[a][b]} imports {b}" for a in c for b in graph.get(a, {})
+                                             if b in c) for c in cycles]
+    assert not cycles, "\n".join(text)
+
+
+def test_the_cycle_check_sees_a_cycle():
+    assert _cycles({"a": {"b": 1}, "b": {"c": 2}, "c": {"a": 3}, "d": {"a": 4}}) == [["a", "b", "c"]]
 
 
 def test_llvmlite_only_behind_the_seam():
