@@ -36,6 +36,7 @@ from ..ir import types as T
 from ..ir.types import KINDS, VType
 from ..source import returns_in_blocks, with_block_calls
 from .intrinsics import Any, Select
+from .context import body_of, is_kernel_body
 from .lanes import Frame, LoopLanes, is_varying, lanes_of
 from .values import Operand, Value, common_type, to_ir, value_class
 from .variables import Variable
@@ -76,11 +77,14 @@ class _Block:
         """Note the block as created-but-not-entered (an error if the function ends so)."""
         if _em.building():
             self._created = user_location()
-            _em.current().unentered.append(self)
+            body = body_of()
+            if body is not None:
+                body.unentered.append(self)
 
     def _open(self, em):
-        if self in em.unentered:
-            em.unentered.remove(self)
+        body = body_of(em)
+        if body is not None and self in body.unentered:
+            body.unentered.remove(self)
         self._em = em
         self._scope = em.push_scope(self.what)
         self._scope.where = user_location()
@@ -247,7 +251,7 @@ class _Loop(_Block):
         it per lane (it calls Break/Continue/Return and the function has several lanes)."""
         if varying:
             return True
-        if not getattr(em.dsl_function, "is_kernel", False) or em.width == 1:
+        if not is_kernel_body(em) or em.width == 1:
             return False  # a function's scalar code branches (masks come only from mask conditions)
         frame = user_frame()
         calls = with_block_calls(frame.f_code, frame.f_lineno) if frame is not None else None
@@ -499,7 +503,10 @@ def return_value(value: typing.Any, from_user: bool) -> None:
     """``Return(value)``; ``from_user`` False for the body's own Python ``return`` (and
     ``Return(v, body=True)``), which may come from anywhere."""
     em = _em.current()
-    fn = em.dsl_function
+    body = body_of(em)
+    if body is None:
+        raise ControlFlowError("Return outside a traced body")
+    fn = body.function
     lanes = lanes_of(em)
     active = lanes.active()
     if lanes.calls and from_user:  # inside an @inline helper: return from it
@@ -507,8 +514,8 @@ def return_value(value: typing.Any, from_user: bool) -> None:
         record_return(em, lanes.calls[-1], value, active)
         return
     if from_user:
-        _check_not_in_helper(em, fn)
-    kernel = getattr(fn, "is_kernel", False)
+        _check_not_in_helper(body)
+    kernel = body.is_kernel
     expected = fn.returns
     if not kernel:
         if expected is None and value is not None:
@@ -533,11 +540,11 @@ def return_value(value: typing.Any, from_user: bool) -> None:
     record_lane_results(em, fn, value, active)
 
 
-def _check_not_in_helper(em, fn) -> None:
+def _check_not_in_helper(body) -> None:
     """Refuse ``Return`` in a plain Python helper: it would return from the whole body."""
-    body_code = getattr(em, "body_code", None)
+    fn = body.function
     frame = user_frame()
-    if body_code is None or frame is None or frame.f_code is body_code:
+    if body.code is None or frame is None or frame.f_code is body.code:
         return
     raise ControlFlowError(
         f"Return inside '{frame.f_code.co_name}', a Python helper called from '{fn.name}': it would return "
@@ -548,7 +555,7 @@ def _check_not_in_helper(em, fn) -> None:
 def record_lane_results(em, fn, value, active) -> None:
     """Store ``value`` as the result of the ``active`` lanes (None: all) and mark them returned."""
     lanes = lanes_of(em)
-    kernel = getattr(fn, "is_kernel", False)
+    kernel = is_kernel_body(em)
     outs = list(fn.outputs) if kernel else ([] if fn.returns is None else [fn.returns])
     values = list(value) if isinstance(value, tuple) else ([] if value is None else [value])
     values = _split(fn, values)
@@ -593,7 +600,8 @@ def _join(fn, flat: list) -> tuple:
 
 def final_results(em, fn, values):
     """The body's results: its Python return values, where no lane returned earlier."""
-    lanes = em.lanes
+    body = body_of(em)
+    lanes = None if body is None else body.lanes
     if lanes is None or lanes.returned is None:
         return values
     if values is None:

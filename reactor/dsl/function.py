@@ -17,6 +17,7 @@ from ..ir import types as T
 from ..ir.types import PointerType, VType
 from .signature import Signature
 from .values import Value, to_ir, value_class
+from .context import begin, check_entered
 from .variables import PointerValue
 
 
@@ -53,8 +54,7 @@ class FunctionDef:
             raise DSLTypeError(f"a function returns one value type, not {returns!r}")
         em = _em.FunctionEmitter(module, module.unique_name(self.name), returns, params,
                                  list(self.signature.names), width=width)
-        em.dsl_function = Built(self.name, returns, params)
-        em.body_code = getattr(self.body, "__code__", None)
+        body = begin(em, Built(self.name, returns, params), self.body)
         module.functions[key] = em.function
         with em:
             from .control import check_python_returns, return_value
@@ -74,8 +74,9 @@ class FunctionDef:
             result = self.body(*args)
             if result is not None and not em.terminated():
                 with at_return_of(self.body):
-                    em.line_override = return_location(self.body)
+                    body.after_return = return_location(self.body)
                     return_value(result, from_user=False)
+            check_entered(em)
             for block in em.finish():
                 if returns is not None:
                     raise MissingReturnError(

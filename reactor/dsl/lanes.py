@@ -27,6 +27,7 @@ import typing
 from ..errors import ControlFlowError
 from ..ir import emitter as _em
 from ..ir.types import KINDS, VType
+from .context import body_of, is_kernel_body
 from .values import Value, value_class
 
 BOOL = KINDS["Bool"]
@@ -67,7 +68,7 @@ class Lanes:
 
     def __init__(self, em):
         self.em = em
-        self.width = em.width if getattr(em.dsl_function, "is_kernel", False) else None
+        self.width = em.width if is_kernel_body(em) else None
         self.frames = [Frame()]
         self.returned: typing.Any = None  # Variable: lanes done (Return), once a per-lane Return was traced
         self.results = None  # Variables: their results
@@ -126,9 +127,12 @@ class Lanes:
 def lanes_of(em=None) -> Lanes:
     """The lane state of the function being built (made on first use)."""
     em = em or _em.current()
-    if em.lanes is None:
-        em.lanes = Lanes(em)
-    return em.lanes
+    body = body_of(em)
+    if body is None:
+        raise ControlFlowError("per-lane control flow outside a traced body")
+    if body.lanes is None:
+        body.lanes = Lanes(em)
+    return body.lanes
 
 
 def is_varying(cond) -> bool:

@@ -22,6 +22,7 @@ from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import KINDS, WIDTHS, Kind, VType
+from .context import is_kernel_body
 
 
 #: What an operator of a DSL value accepts on its other side.
@@ -233,7 +234,7 @@ def width_mismatch(message: str) -> WidthMismatchError:
     """The error for values of different widths; in a kernel's body, with how to write it there."""
     if _em.building():
         em = _em.current()
-        if getattr(em.dsl_function, "is_kernel", False):
+        if is_kernel_body(em):
             message += (f"; a kernel's body is traced at width {em.settings.width} and at width 1 (the tail): "
                         f"write the scalar types (Float, Int, Bool ...), which take the body's width, not "
                         f"Float4 or Float16")

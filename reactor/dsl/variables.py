@@ -24,7 +24,7 @@ from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import PointerType, VType
-from .context import active_mask
+from .context import active_mask, is_kernel_body
 from .values import Operand, Value, binary, to_ir, value_class
 
 
@@ -61,7 +61,7 @@ class _VariableMixin:
         mask = active_mask()
         if mask is not None:
             if self.vtype.width != mask.width:
-                kernel = getattr(em.dsl_function, "is_kernel", False)
+                kernel = is_kernel_body(em)
                 fix = ("declare it without uniform=True (one value per lane)" if kernel else
                        f"declare it with one value per lane (Variable({self.vtype.kind.name}{mask.width}, ...))")
                 raise ControlFlowError(
@@ -109,7 +109,7 @@ def per_lane(vtype: VType) -> VType:
     type means one value per lane (as every variable of a shader), so it takes the body's width."""
     if vtype.width == 1 and _em.building():
         em = _em.current()
-        if getattr(em.dsl_function, "is_kernel", False) and em.width > 1:
+        if is_kernel_body(em) and em.width > 1:
             return vtype.with_width(em.width)
     return vtype
 

@@ -289,6 +289,10 @@ class FunctionEmitter:
         self.module = module
         self.width = width or module.build.width
         self._settings = [module.build]
+        self.front: object = None  # the front end's state of this function (opaque here: reactor.dsl.context)
+        #: the source-location provider the front end installs: the user's (file, line) now, or None
+        self.locate: typing.Callable[[], tuple[str, int] | None] | None = None
+        self.tail_body = False  # a kernel's width-1 body beside its vector body (a column of its own)
         fnty = ir.FunctionType(_llvm(ret), [_llvm(p) for p in params])
         self.function = ir.Function(module.module, fnty, name=name)
         for arg, argname in zip(self.function.args, param_names):
@@ -314,24 +318,15 @@ class FunctionEmitter:
         self.root_scope = self.scope
         self.ret_type = ret
         self.pending_chain = None  # (else_block, merge_block, mark) after an If/Elif
-        self.dsl_function: typing.Any = None  # what is being built (set by its builder; see dsl/control.Return)
-        self.unentered: list = []  # blocks (If, For, ...) created but not yet entered with `with`
-        self.lanes: typing.Any = None  # the execution-mask state (reactor.dsl.lanes), made on first use
-        self.body_code: typing.Any = None  # the code object of the body being traced (Return's home)
-        self.line_override: tuple | None = None  # (file, line) for code emitted after the body returned
 
     def source_location(self):
         """The debug location of the instruction being made: the user's line while a body is
         traced (its routine's group inside a routine), line 0 for reactor's own plumbing."""
-        from ..errors import user_location
         lines = self.module.lines
-        where = None
-        if getattr(self, "dsl_function", None) is not None:
-            where = self.line_override or user_location()
+        where = self.locate() if self.locate is not None else None
         if where is None:
             return lines.location(self._subprogram, None, 0, 0)
-        tail = getattr(self.dsl_function, "is_kernel", False) and self.width == 1 and self.module.build.width > 1
-        column = lines.group(self.module.routine_name) + (TAIL_COLUMN if tail else 0)
+        column = lines.group(self.module.routine_name) + (TAIL_COLUMN if self.tail_body else 0)
         return lines.location(self._subprogram, where[0], where[1], column)
 
     @property
@@ -756,11 +751,6 @@ class FunctionEmitter:
         """Close the body: blocks unreachable from the entry get ``unreachable``;
         return the reachable blocks that still lack a terminator (they fall off
         the end of the function)."""
-        if self.unentered:
-            blk = self.unentered[0]
-            name = type(blk).__name__
-            raise ControlFlowError(f"{name}(...) was created but never entered, so it has no effect: "
-                                   f"write 'with {name}(...):'", location=getattr(blk, "_created", None))
         if self.scope is not self.root_scope:
             raise ControlFlowError(f"'{self.scope.what}' block entered but never closed: use it in a "
                                    f"'with' statement", location=self.scope.where)

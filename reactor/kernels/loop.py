@@ -33,6 +33,7 @@ so kernels report no floating-point warnings through NumPy's ``errstate``.
 """
 from __future__ import annotations
 
+from ..dsl.context import begin, check_entered
 from ..dsl.control import final_results
 from ..dsl.values import to_ir, value_class
 from ..errors import DSLTypeError, at_return_of, return_location
@@ -101,22 +102,23 @@ def emit_body(module, name: str, body, ins, outs, width: int):
     fname = f"{name}.body" if width > 1 or module.build.width == 1 else f"{name}.body1"
     em = _em.FunctionEmitter(module, fname, ret, params, [f"x{k}" for k in range(len(params))],
                              width=width, internal=True)
-    em.dsl_function = KernelBody(name, out_types, outs)
-    em.body_code = getattr(body, "__code__", None)  # Return belongs here (or in an @inline helper)
+    state = begin(em, KernelBody(name, out_types, outs), body, is_kernel=True)  # Return belongs to body
+    em.tail_body = width == 1 and module.build.width > 1
     with em:
         inputs = [o.wrap(em, em.params[at:at + count], width) for o, (at, count) in zip(ins, groups)]
         result = body(*inputs)
         if result is not None and not isinstance(result, tuple):
             result = (result,)
         with at_return_of(body):
-            em.line_override = return_location(body)  # what follows belongs to the return statement
-            result = final_results(em, em.dsl_function, result)
+            state.after_return = return_location(body)  # what follows belongs to the return statement
+            result = final_results(em, state.function, result)
             irs: list | None = None
             if result is not None:
                 if len(result) != len(outs):
                     raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
                                        f"{len(outs)} output(s)")
                 irs = [v for o, r in zip(outs, result) for v in o.flatten(r, width, f"kernel '{name}' result")]
+            check_entered(em)
             open_blocks = em.finish()
             if open_blocks and irs is None:
                 raise DSLTypeError("kernel body can reach its end without a result: end it with "
