@@ -17,6 +17,7 @@ from .dsl.intrinsics import (
     RsqrtApprox, ScaleF, Select, Significand, ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc,
     build_settings, fma_mode, precision, target_features,
 )
+from .dsl import flow  # the control-flow core as plain calls, for front ends
 from .dsl.calls import RoutineCall, routine_call, site_choice
 from .dsl.inline import inline
 from .dsl.signature import SIMD, Pointer
@@ -82,7 +83,7 @@ __all__ = [
     # functions, kernels, threads
     "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
     "configure_threads", "thread_settings", "RoutineCall", "routine_call", "site_choice", "explain",
-    "plan", "Plan", "PlanStaleError", "Range", "Rows",
+    "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
     "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",

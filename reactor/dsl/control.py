@@ -245,6 +245,7 @@ class _Loop(_Block):
     the iteration limit."""
 
     _max: int | None = None
+    _lane_exits: bool | None = None
 
     def _tracks_lanes(self, em, varying: bool) -> bool:
         """Whether the loop keeps per-lane masks: its condition is per lane, or its body may leave
@@ -253,6 +254,8 @@ class _Loop(_Block):
             return True
         if not is_kernel_body(em) or em.width == 1:
             return False  # a function's scalar code branches (masks come only from mask conditions)
+        if self._lane_exits is not None:  # the front end says whether the body leaves per lane
+            return self._lane_exits
         frame = user_frame()
         calls = with_block_calls(frame.f_code, frame.f_lineno) if frame is not None else None
         return calls is None or bool(calls & _LANE_EXITS)
@@ -322,7 +325,9 @@ class While(_Loop):
 
     what = "While"
 
-    def __init__(self, cond: Callable[[], Value] | Value, max_iterations: int | None = None) -> None:
+    def __init__(self, cond: Callable[[], Value] | Value, max_iterations: int | None = None, *,
+                 lane_exits: bool | None = None) -> None:
+        self._lane_exits = lane_exits
         if isinstance(cond, Value) and not hasattr(cond, "_name"):
             raise DSLTypeError("While needs a condition that is re-evaluated every iteration: "
                                "pass a lambda, e.g. While(lambda: i < n), or a Bool Variable")
@@ -379,7 +384,8 @@ class For(_Loop):
     what = "For"
 
     def __init__(self, start: int | Value, stop: int | Value | None = None, step: int = 1,
-                 max_iterations: int | None = None) -> None:
+                 max_iterations: int | None = None, *, lane_exits: bool | None = None) -> None:
+        self._lane_exits = lane_exits
         if stop is None:
             start, stop = 0, start
         if not isinstance(step, int) or isinstance(step, bool) or step == 0:

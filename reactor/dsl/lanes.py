@@ -73,6 +73,7 @@ class Lanes:
         self.returned: typing.Any = None  # Variable: lanes done (Return), once a per-lane Return was traced
         self.results = None  # Variables: their results
         self.calls: list[CallFrame] = []  # the @inline helpers being traced, innermost last
+        self.pushed: list[tuple] = []  # flow.push_mask's: (frame, depth of its conds) each, innermost last
 
     @property
     def frame(self) -> Frame:
