@@ -33,6 +33,9 @@ so kernels report no floating-point warnings through NumPy's ``errstate``.
 """
 from __future__ import annotations
 
+import dataclasses
+import typing
+
 from ..dsl.context import begin, check_entered
 from ..dsl.control import final_results
 from ..dsl.values import to_ir, value_class
@@ -131,6 +134,26 @@ def emit_body(module, name: str, body, ins, outs, width: int):
     return em.function
 
 
+@dataclasses.dataclass
+class _VectorRun:
+    """What the pieces of a kernel's vector loop share (``LoopEmitter._vector_loop``)."""
+
+    settings: typing.Any  # the runtime's settings (IR pointer)
+    n_fast: typing.Any  # elements the vector loop reads in place
+    slots: list  # per column: where its current pointer is kept
+    step_of: list  # per column: its step in bytes
+    uniforms: dict  # uniform input -> its body arguments
+    gathered: bool  # the vector body also serves the other elements (no width-1 body)
+    move: typing.Any = None  # reactor_move, and what it is called with
+    columns: list = dataclasses.field(default_factory=list)
+    count: typing.Any = None  # runs of the inner loop in this chunk
+    moved: typing.Any = None  # elements a gathered chunk holds
+    gathering: typing.Any = None  # whether this chunk was gathered
+    j: typing.Any = None  # the inner loop's counter
+    chunk: typing.Any = None  # blocks: the chunk loop's head, and after a chunk's runs
+    done: typing.Any = None
+
+
 class LoopEmitter:
     """Emits ``<name>.loop`` around the body functions of a kernel (``vector`` at the
     build's width, None when it is 1; ``scalar`` at width 1) for its Operands."""
@@ -215,7 +238,30 @@ class LoopEmitter:
         times) and step, and how many elements the layout lets this loop do (0: none). A
         vector column runs here when its channels are contiguous (then W elements are W *
         channels contiguous values, split into channels by shuffles); uniform operands must
-        be the same array for every element (outer step 0)."""
+        be the same array for every element (outer step 0). Where there is no width-1 body,
+        the same vector body also serves every other element, through ``reactor_move``."""
+        run = self._layout(data)
+        if run.gathered:
+            head, body = self._chunks(run, exit_block)
+        else:
+            em = self.em
+            head, body = em.new_block("vec.cond"), em.new_block("vec.body")
+            em.branch(head)
+            em.goto(head)
+            i = em.load(self.i, name="i")
+            em.cbranch(self._cmp("lt", i, run.n_fast), body, exit_block)
+        self._vector_body(run, body)
+        if not run.gathered:
+            em = self.em
+            em.store(self._add(em.load(self.i, name="i"), _idx(self.width)), self.i)
+            em.branch(head)
+            return
+        self._chunk_end(run, head)
+
+    def _layout(self, data) -> "_VectorRun":
+        """Ask ``reactor_prepare`` where each column starts and steps, and how many elements the
+        vector loop reads in place (``n_fast``); the pointers' slots, the steps, the uniform
+        operands' arguments."""
         em, W = self.em, self.width
         cols = self.columns
         ncol = len(cols)
@@ -257,57 +303,58 @@ class LoopEmitter:
         for c, slot in enumerate(slots):
             em.store(em.load(em.address(srcs, c), name=f"src{c}"), slot)
         uniforms = {k: self._uniform_args(k, _idx(0)) for k, o in enumerate(self.ins) if o.uniform}
-        gathered = self.scalar_fn is None  # the vector body also serves the other elements (reactor_move)
-        if gathered:
-            # Chunks: the elements the vector loop reads in place (0 .. n.fast), then the others, W
-            # (or, for accumulations, 1) at a time through W-lane buffers (reactor_move), each run of
-            # the one inner loop below, which holds the one copy of the body.
-            move = abi.SETTINGS.load(em, settings, "move")
-            columns = self._move_columns(cols, W)
-            count, moved, gathering = (em.alloca(INDEX, "run.count"), em.alloca(INDEX, "run.k"),
-                                       em.alloca(BOOL_MEM, "run.gathered"))
-            chunk, direct, gather, done_run = (em.new_block(b) for b in ("chunk", "chunk.direct", "chunk.gather",
+        return _VectorRun(settings, n_fast, slots, step_of, uniforms, gathered=self.scalar_fn is None)
+
+    def _chunks(self, run: "_VectorRun", exit_block):
+        """The loop over chunks: the elements the vector loop reads in place (0 .. n.fast), then the
+        others, W (or, for accumulations, 1) at a time through W-lane buffers (``reactor_move``),
+        each a run of the one inner loop whose head and body this returns (the one copy of the body)."""
+        em, W = self.em, self.width
+        run.move = abi.SETTINGS.load(em, run.settings, "move")
+        run.columns = self._move_columns(self.columns, W)
+        run.count, run.moved, run.gathering = (em.alloca(INDEX, "run.count"), em.alloca(INDEX, "run.k"),
+                                               em.alloca(BOOL_MEM, "run.gathered"))
+        run.chunk, direct, gather, run.done = (em.new_block(b) for b in ("chunk", "chunk.direct", "chunk.gather",
                                                                          "chunk.done"))
-            em.branch(chunk)
-            em.goto(chunk)
-            i = em.load(self.i, name="i")
-            pick = em.new_block("chunk.pick")
-            em.cbranch(self._cmp("lt", i, self.n), pick, exit_block)
-            em.goto(pick)
-            em.cbranch(self._cmp("lt", i, n_fast), direct, gather)
-            em.goto(direct)
-            em.store(ops.binary(em, "lshr", INDEX, n_fast, _idx(W.bit_length() - 1)), count)  # n.fast / W
-            em.store(T.const(BOOL_MEM, 0), gathering)
-            run = em.new_block("run")
-            em.branch(run)
-            em.goto(gather)
-            k = em.call_pointer(move, INDEX, abi.MOVE.params, [_idx(0)] + columns + [i, self.n, _idx(0)] +
-                                self._move_buffer, name="chunk.k")
-            em.store(k, moved)
-            em.store(_idx(1), count)
-            em.store(T.const(BOOL_MEM, 1), gathering)
-            for c, slot in enumerate(slots):
-                em.store(em.address(self._move_buffer[1], _idx(c * self._slot_bytes)), slot)
-            em.branch(run)
-            em.goto(run)
-            j = em.alloca(INDEX, "j")
-            em.store(_idx(0), j)
-            head, body = em.new_block("vec.cond"), em.new_block("vec.body")
-            em.branch(head)
-            em.goto(head)
-            em.cbranch(self._cmp("lt", em.load(j, name="j"), em.load(count, name="runs")), body, done_run)
-        else:
-            head, body = em.new_block("vec.cond"), em.new_block("vec.body")
-            em.branch(head)
-            em.goto(head)
-            i = em.load(self.i, name="i")
-            em.cbranch(self._cmp("lt", i, n_fast), body, exit_block)
+        em.branch(run.chunk)
+        em.goto(run.chunk)
+        i = em.load(self.i, name="i")
+        pick = em.new_block("chunk.pick")
+        em.cbranch(self._cmp("lt", i, self.n), pick, exit_block)
+        em.goto(pick)
+        em.cbranch(self._cmp("lt", i, run.n_fast), direct, gather)
+        em.goto(direct)
+        em.store(ops.binary(em, "lshr", INDEX, run.n_fast, _idx(W.bit_length() - 1)), run.count)  # n.fast / W
+        em.store(T.const(BOOL_MEM, 0), run.gathering)
+        inner = em.new_block("run")
+        em.branch(inner)
+        em.goto(gather)
+        k = em.call_pointer(run.move, INDEX, abi.MOVE.params, [_idx(0)] + run.columns + [i, self.n, _idx(0)] +
+                            self._move_buffer, name="chunk.k")
+        em.store(k, run.moved)
+        em.store(_idx(1), run.count)
+        em.store(T.const(BOOL_MEM, 1), run.gathering)
+        for c, slot in enumerate(run.slots):
+            em.store(em.address(self._move_buffer[1], _idx(c * self._slot_bytes)), slot)
+        em.branch(inner)
+        em.goto(inner)
+        run.j = em.alloca(INDEX, "j")
+        em.store(_idx(0), run.j)
+        head, body = em.new_block("vec.cond"), em.new_block("vec.body")
+        em.branch(head)
+        em.goto(head)
+        em.cbranch(self._cmp("lt", em.load(run.j, name="j"), em.load(run.count, name="runs")), body, run.done)
+        return head, body
+
+    def _vector_body(self, run: "_VectorRun", body) -> None:
+        """One iteration: load W elements of each input, call the body, store the results, step."""
+        em = self.em
         em.goto(body)
-        ptrs = {k: em.load(slots[c], name=f"p{c}") for c, k in enumerate(cols)}
+        ptrs = {k: em.load(run.slots[c], name=f"p{c}") for c, k in enumerate(self.columns)}
         xs: list = []
         for k, o in enumerate(self.ins):
             if o.uniform:
-                xs.extend(uniforms[k])
+                xs.extend(run.uniforms[k])
             else:
                 xs.extend(self._load_vector(o, ptrs[k], f"x{k}"))
         results = self._call(self.vector_fn, xs, inline="always")
@@ -315,30 +362,31 @@ class LoopEmitter:
         for jo, o in enumerate(self.outs):
             self._store_vector(o, results[at:at + o.channels], ptrs[len(self.ins) + jo])
             at += o.channels
-        for c, k in enumerate(cols):
-            em.store(em.address(ptrs[k], step_of[c], name=f"p{c}.next"), slots[c])
-        if not gathered:
-            em.store(self._add(em.load(self.i, name="i"), _idx(W)), self.i)
-            em.branch(head)
-            return
-        em.store(self._add(em.load(j, name="j"), _idx(1)), j)
+        for c, k in enumerate(self.columns):
+            em.store(em.address(ptrs[k], run.step_of[c], name=f"p{c}.next"), run.slots[c])
+
+    def _chunk_end(self, run: "_VectorRun", head) -> None:
+        """After a chunk's runs: a gathered chunk's results back to memory (``reactor_move``), then
+        the next chunk."""
+        em = self.em
+        em.store(self._add(em.load(run.j, name="j"), _idx(1)), run.j)
         em.branch(head)
-        em.goto(done_run)
+        em.goto(run.done)
         out, direct_done, after = em.new_block("chunk.out"), em.new_block("chunk.fast"), em.new_block("chunk.next")
-        em.cbranch(em.icmp("!=", em.load(gathering, name="gathered"), T.const(BOOL_MEM, 0), signed=False,
+        em.cbranch(em.icmp("!=", em.load(run.gathering, name="gathered"), T.const(BOOL_MEM, 0), signed=False,
                            name="gathered"), out, direct_done)
         em.goto(out)
         i = em.load(self.i, name="i")
-        k = em.load(moved, name="k")
-        em.call_pointer(move, INDEX, abi.MOVE.params, [_idx(1)] + columns + [i, self.n, k] + self._move_buffer,
-                        name="moved")
+        k = em.load(run.moved, name="k")
+        em.call_pointer(run.move, INDEX, abi.MOVE.params, [_idx(1)] + run.columns + [i, self.n, k] +
+                        self._move_buffer, name="moved")
         em.store(self._add(i, k), self.i)
         em.branch(after)
         em.goto(direct_done)
-        em.store(n_fast, self.i)
+        em.store(run.n_fast, self.i)
         em.branch(after)
         em.goto(after)
-        em.branch(chunk)
+        em.branch(run.chunk)
 
     def _move_columns(self, cols, W):
         """The column descriptors ``reactor_move`` reads (pointers, steps, channel strides, channels,
