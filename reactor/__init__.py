@@ -35,12 +35,12 @@ from .errors import (
 from .ir.types import KINDS, WIDTHS
 from .kernels.kernel import Kernel, kernel, kernel_of
 from .kernels.chunks import map_blocks
-from .kernels.emulated import Emulator, missing as emulator_missing, run as run_emulated
+from .kernels.qemu import Emulator, missing as emulator_missing, run as run_emulated
 from .kernels.pickling import travels_as  # also registers how reactor ufuncs pickle
 from .explain import explain
 from .planner import Plan, PlanStaleError, Range, Rows, plan
 from .kernels.parallel import configure as configure_threads, settings as thread_settings
-from .runtime.function import Function, Library, Module, Routine, function
+from .runtime.function import CompiledModule, Function, Library, Module, Routine, function
 from .targets import TARGETS, Target, get_target
 
 # Value types: Float, Float4, Float8, Float16, Int, Int4, ..., Bool16 (masks).
@@ -81,7 +81,7 @@ __all__ = [
     "ReduceDown", "ReduceNearest", "Round", "RsqrtApprox", "ScaleF", "Select", "Significand", "ShiftRightArithmetic",
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
-    "Function", "function", "Module", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
+    "Function", "function", "Module", "CompiledModule", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
     "configure_threads", "thread_settings", "RoutineCall", "routine_call", "site_choice", "explain",
     "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow",
     # errors

@@ -9,7 +9,7 @@ natural SIMD width (16 lanes of float32 with AVX-512, 8 with AVX2, else 4) and
 whether FMA exists. A forced target whose features the host lacks, or whose
 architecture is not the host's (``aarch64`` on an x86 machine), can still be
 compiled (to read its assembly, or to run under an emulator: see
-``reactor.kernels.emulated``) but its code refuses to run in this process.
+``reactor.kernels.qemu``) but its code refuses to run in this process.
 
 ``aarch64`` is ARMv8.2-A with NEON (LLVM's ``neoverse-n1``: AWS Graviton2, and a
 subset of Apple M1 and Graviton3): 4 float32 lanes, fused multiply-add always

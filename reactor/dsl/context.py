@@ -25,7 +25,7 @@ if typing.TYPE_CHECKING:
 class Body:
     """The DSL's state of one function being built."""
 
-    function: typing.Any  # what is built: dsl.function.Built or kernels.loop.KernelBody
+    function: typing.Any  # what is built: dsl.definition.Built or kernels.loop.KernelBody
     is_kernel: bool  # a kernel's per-element body (Variables per lane, Return per lane)
     code: typing.Any = None  # the code object of the body being traced (Return's home)
     lanes: "Lanes | None" = None  # the execution-mask state, made on first use

@@ -2,7 +2,7 @@
 
 The kernels' ufunc loops and the runtime (``reactor.kernels.parallel``) share a few structures
 and function signatures with Python (ctypes) and with the qemu driver's C code
-(``reactor.kernels.emulated``). Each is declared here once, its fields by name; the IR type
+(``reactor.kernels.qemu``). Each is declared here once, its fields by name; the IR type
 (:attr:`Struct.ir`), the ctypes class (:attr:`Struct.ctype`) and the C declaration
 (:attr:`Struct.c`) are derived from that declaration, and emitted code reaches a field by its
 name (:meth:`Struct.load`), so that a reordered field changes every side at once.

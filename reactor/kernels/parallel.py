@@ -147,7 +147,7 @@ def runtime(target: str = "host") -> CompiledCode:
     """The compiled runtime (built once per process and target, cached on disk):
     ``reactor_parallel_for`` and ``reactor_prepare`` (every kernel's layout decisions, kept out
     of each kernel's code). The host's is loaded into this process; another target's is object
-    code to link elsewhere (``reactor.kernels.emulated``)."""
+    code to link elsewhere (``reactor.kernels.qemu``)."""
     build = BuildOptions(target=target, width=1).resolved()
     module = _em.ModuleEmitter("reactor.parallel", build)
     _emit_runtime(module)

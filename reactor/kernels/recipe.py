@@ -30,7 +30,7 @@ import types
 import numpy as np
 
 from ..dsl.external import External
-from ..dsl.function import FunctionDef
+from ..dsl.definition import FunctionDef
 from ..dsl.signature import GenericType
 from ..dsl.values import Value
 from ..errors import library_dirs

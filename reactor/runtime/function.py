@@ -23,7 +23,7 @@ import numpy as np
 
 from ..travel import arrive, reduce_body
 from ..build import Build, current_options
-from ..dsl.function import FunctionDef
+from ..dsl.definition import FunctionDef
 from ..dsl.calls import RoutineCall, calls_of
 from ..dsl.limits import STATUS, messages_of
 from ..errors import ArityError, LoopLimitError, ReactorError
@@ -118,19 +118,19 @@ class Module:
             entry.emit_entry(mod, fn.name, irfn, params, returns)
         return mod
 
-    def compile(self, **options) -> "Library":
+    def compile(self, **options) -> "CompiledModule":
         return self.compile_with(current_options().merged(**options).resolved())
 
-    def compile_with(self, build: Build) -> "Library":
+    def compile_with(self, build: Build) -> "CompiledModule":
         mod = self.build(build)
         messages, calls = messages_of(mod), calls_of(mod)
         exports = tuple(f.name + entry.SUFFIX for f in self.functions) + ((STATUS,) if messages else ())
         code = CompiledCode(mod.text, build.target, build.opt, exports, build.cache, mod.imports)
-        return Library(code, {f.name: Routine(f, code, build, mod.written.get((f, build.width), frozenset()),
+        return CompiledModule(code, {f.name: Routine(f, code, build, mod.written.get((f, build.width), frozenset()),
                                               messages, calls) for f in self.functions})
 
 
-class Library(dict):
+class CompiledModule(dict):
     """Compiled routines of a module, by name (also as attributes)."""
 
     def __init__(self, code, routines):
@@ -142,6 +142,9 @@ class Library(dict):
             return self[name]
         except KeyError:
             raise AttributeError(name) from None
+
+
+Library = CompiledModule  # its former name ("library" now means only the routines' collection)
 
 
 _ENTRY = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)

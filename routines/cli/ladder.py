@@ -1,7 +1,7 @@
 """``python -m routines ladder``: the faithful and correct tiers, proved on the compiled code.
 
 Each variant (function x tier x FMA on/off) runs on float32 inputs against a correctly
-rounded reference (``routines.lab.ladder``): results not correctly rounded, max ULP-32,
+rounded reference (``routines.lab.rounding``): results not correctly rounded, max ULP-32,
 subnormal results. By default every 256th bit pattern (2^24 inputs, every binade and sign);
 ``--exhaustive``: all 2^32. pow (faithful) runs the stratified 2^30-pair sweep (every 16th
 stratum by default) plus its hard pairs. Exit status 1 if a correct variant misrounds any
@@ -33,7 +33,7 @@ def main(argv: list[str]) -> int:
 
     from .. import jit
     from ..base import tiers
-    from ..lab import ladder
+    from ..lab import rounding as ladder
 
     failed = False
     results = []

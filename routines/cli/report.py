@@ -8,7 +8,7 @@ glibc libmvec, SLEEF, numba where installed),
 measures their accuracy (the lab's sample by default, every input with
 ``--exhaustive``) and their speed (L1, L2 and DRAM sizes, one thread, and two
 threads at the DRAM size; the clock calibrated in the same run), models
-every variant's loop, measures the accuracy ladder (``routines.perf.ladder``: every tier
+every variant's loop, measures the accuracy ladder (``routines.perf.frontier``: every tier
 of exp2, exp, log2, log and pow beside every peer, with which peer each of our points
 dominates), writes ``DIR/report.json`` (every figure) and prints
 the tables and the targets, then draws ``DIR/ladder.png`` (the ladder), ``DIR/chart.png``/``.svg`` (cost vs
@@ -75,7 +75,7 @@ def main(argv: list[str]) -> int:
     result["chart"] = []
     _write_json(result, json_path)  # the figures first: the chart is optional and drawn last
     print(report.print_table(result), flush=True)
-    from ..perf import ladder
+    from ..perf import frontier as ladder
     points = ladder.from_json(result["ladder"])
     if points:
         print("\nThe accuracy ladder (relaxed, full, faithful, correct) beside every peer: "

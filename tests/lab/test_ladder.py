@@ -5,7 +5,7 @@ import json
 import numpy as np
 
 from routines.cli import ladder as ladder_cli
-from routines.perf import ladder, peers
+from routines.perf import frontier as ladder, peers
 
 
 def test_the_ladder_command_checks_a_tier_and_writes_json(tmp_path, capsys):

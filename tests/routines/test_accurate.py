@@ -11,7 +11,7 @@ import pytest
 import reactor
 import routines
 from routines.base import tiers
-from routines.lab import ladder
+from routines.lab import rounding as ladder
 from routines.polynomials import DOUBLE
 
 CORRECT = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt")

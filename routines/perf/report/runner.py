@@ -91,7 +91,7 @@ def run(functions=DEFAULT_FUNCTIONS, *, sizes=None, rounds=None, samples=2 ** 20
     attach_gaps(variants, floors, state)
 
     t = time.perf_counter()
-    from .. import ladder
+    from .. import frontier as ladder
     steps = [f for f in functions if f in ladder.FUNCS]
     points = ladder.run(steps, rounds=5 if min(rounds.values()) < 9 else 21) if steps else []
     phases["ladder"] = time.perf_counter() - t

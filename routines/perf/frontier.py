@@ -5,7 +5,7 @@ most its time and at most its error) or not.
 Time: 64K float32 operands of ``timing.inputs`` (exp/exp2 in [-10, 10], logs in [1e-3, 100],
 pow x in [1e-3, 100] and y in [-10, 10]), one thread, every candidate called in turn in each
 of ``rounds`` rounds (same-run ratios on a shared machine), the median kept.
-Error: ``routines.lab.ladder.score`` on a sample of every binade: every 4099th float32 bit
+Error: ``routines.lab.rounding.score`` on a sample of every binade: every 4099th float32 bit
 pattern (1,047,811 inputs), and for pow the hard pairs plus every 16th stratum of the 2^30
 sweep thinned to every 16th x (1M pairs); the max ULP-32 is taken over finite results (the
 specials are counted apart as results not correctly rounded). The exhaustive figures of our
@@ -48,7 +48,7 @@ def sample(func: str) -> tuple[np.ndarray, np.ndarray | None]:
     """The accuracy sample's operand bit patterns (see the module docstring)."""
     if func != "pow":
         return np.arange(0, 2 ** 32, SAMPLE_STRIDE, dtype=np.uint64).astype(np.uint32), None
-    from ..lab.ladder import pow_hard_cases
+    from ..lab.rounding import pow_hard_cases
     from ..lab.pairs import x_stratum, y_strata
     xs, ys = [pow_hard_cases()[0]], [pow_hard_cases()[1]]
     for k, y in list(enumerate(y_strata(0)))[::16]:
@@ -74,7 +74,7 @@ def candidates(functions=FUNCS, fma: bool | None = None) -> list[tuple[Point, ob
 
 
 def measure_accuracy(points: list[tuple[Point, object]]) -> None:
-    from ..lab.ladder import score
+    from ..lab.rounding import score
     from .peers import as_array_function
     samples = {}
     for pt, fn in points:
