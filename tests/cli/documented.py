@@ -27,6 +27,7 @@ import re
 import runpy
 import shlex
 import sys
+import warnings
 from collections.abc import Iterator
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -169,7 +170,10 @@ def check(argv: list[str], out: io.StringIO | None = None) -> str | None:
 
     argparse.ArgumentParser.parse_args = parse_then_stop  # type: ignore[method-assign]
     try:
-        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out or io.StringIO()):
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out or io.StringIO()), \
+                warnings.catch_warnings():
+            # a module run again (reactor.__main__ after the first check): runpy says so; harmless here
+            warnings.filterwarnings("ignore", "'.*' found in sys.modules", RuntimeWarning)
             if argv[0] == "-m":
                 sys.argv = [argv[1]] + argv[2:]
                 runpy.run_module(argv[1], run_name="__main__", alter_sys=True)
