@@ -69,9 +69,25 @@ def _mask(cond, what: str) -> Value:
 
 
 class _Block:
-    """Common enter/exit protocol: a scope opened on enter, closed on exit."""
+    """A block of the control-flow core: ``begin()`` opens it (a scope, blocks and branches, the
+    lanes it runs for), ``end()`` closes it; ``with`` calls the two (and, when the body raised,
+    leaves the block open: the build is failing anyway). ``reactor.dsl.flow`` calls them too."""
 
     what = "block"
+
+    def begin(self) -> typing.Any:
+        raise NotImplementedError
+
+    def end(self) -> None:
+        raise NotImplementedError
+
+    def __enter__(self) -> typing.Any:
+        return self.begin()
+
+    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
+        if exc_type is None:
+            self.end()
+        return False
 
     def _register(self):
         """Note the block as created-but-not-entered (an error if the function ends so)."""
@@ -108,7 +124,7 @@ class If(_Block):
         self._cond = cond
         self._register()
 
-    def __enter__(self) -> None:
+    def begin(self) -> None:
         em = _em.current()
         if is_varying(self._cond):
             self._taken = _mask(self._cond, self.what)
@@ -135,9 +151,7 @@ class If(_Block):
         em.goto(body)
         self._open(em)
 
-    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
-        if exc_type is not None:
-            return False
+    def end(self) -> None:
         self._close()
         em = self._em
         if self._varying:
@@ -146,13 +160,12 @@ class If(_Block):
             em.branch_to(self._merge)
             em.goto(self._merge)
             em.pending_chain = ("lanes", self, self._merge)
-            return False
+            return
         em.branch_to(self._merge)
         em.goto(self._else)
         em.branch(self._merge)
         em.goto(self._merge)
         em.pending_chain = (self._else, self._merge, em.mark())
-        return False
 
 
 #: A per-lane block of at most this many straight-line instructions runs for every lane (its
@@ -185,7 +198,7 @@ class Elif(If):
 
     what = "Elif"
 
-    def __enter__(self) -> None:
+    def begin(self) -> None:
         em, prev, merge = _claim_chain("Elif")
         if merge is None:  # the chain is per lane: the lanes no earlier condition took
             cond = _mask(self._cond, self.what)
@@ -212,7 +225,7 @@ class Else(_Block):
     def __init__(self) -> None:
         self._register()
 
-    def __enter__(self) -> None:
+    def begin(self) -> None:
         em, prev, merge = _claim_chain("Else")
         if merge is None:
             self._varying = True
@@ -228,16 +241,13 @@ class Else(_Block):
         self._open(em)
         self._scope.chain = merge
 
-    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
-        if exc_type is not None:
-            return False
+    def end(self) -> None:
         self._close()
         if self._varying:
             lanes_of(self._em).frame.conds.pop()
             _unguard_if_cheap(self._em, self._guard)
         self._em.branch_to(self._merge)
         self._em.goto(self._merge)
-        return False
 
 
 class _Loop(_Block):
@@ -338,7 +348,7 @@ class While(_Loop):
     def _test(self):
         return self._cond() if callable(self._cond) else self._cond
 
-    def __enter__(self) -> None:
+    def begin(self) -> None:
         em = _em.current()
         loop = self._begin(em, tracked=self._tracks_lanes(em, False) or self._declared_varying(em))
         self._to_head(em)
@@ -367,11 +377,8 @@ class While(_Loop):
             scratch.parent.blocks.remove(scratch)
         return varying
 
-    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
-        if exc_type is not None:
-            return False
+    def end(self) -> None:
         self._end(self._em)
-        return False
 
 
 class For(_Loop):
@@ -394,7 +401,10 @@ class For(_Loop):
         self._max = _check_max(max_iterations)
         self._register()
 
-    def __enter__(self) -> Value:
+    def __enter__(self) -> Value:  # the counter, typed for editors
+        return self.begin()
+
+    def begin(self) -> Value:
         em = _em.current()
         ints = [v for v in (self._start, self._stop) if isinstance(v, Value)]
         vt = common_type(*ints, what="For") if ints else VType(KINDS["Int"], 1)
@@ -422,11 +432,8 @@ class For(_Loop):
         self._counter._scope = self._scope
         return self._counter
 
-    def __exit__(self, exc_type, *rest) -> typing.Literal[False]:
-        if exc_type is not None:
-            return False
+    def end(self) -> None:
         self._end(self._em, self._step_counter)
-        return False
 
     def _step_counter(self):
         em = self._em

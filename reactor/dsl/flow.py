@@ -1,9 +1,10 @@
 """The control-flow core as plain calls, for front ends that are not Python ``with`` blocks.
 
-A front end that rewrites Python's ``if``/``while`` or translates SPIR-V's structured control
-flow drives the same machinery as ``with If(...)``/``With For(...)`` (``reactor.dsl.control``,
-over the execution mask of ``reactor.dsl.lanes``) through these calls; each ``*_begin`` returns
-the open block, which its ``end`` closes (blocks nest: close the innermost first)::
+The core's blocks (``reactor.dsl.control``: If, Elif, Else, While, For, over the execution mask of
+``reactor.dsl.lanes``) open with ``begin()`` and close with ``end()``; ``with If(...):`` calls the
+two, and a front end that rewrites Python's ``if``/``while`` or translates SPIR-V's structured
+control flow calls them through these functions; each ``*_begin`` returns the open block, which
+:func:`end` closes (blocks nest: close the innermost first)::
 
     b = flow.if_begin(x < 0.0)       # a scalar Bool branches; a mask runs the block per lane
     flow.assign(y, -x)               # a Variable changes in the active lanes only
@@ -41,7 +42,7 @@ __all__ = ["active_mask", "assign", "else_begin", "elif_begin", "end", "for_begi
 def _opened(block):
     """Enter ``block``, noting the push_mask's outstanding (``end`` checks none is left)."""
     pushes = len(lanes_of().pushed)
-    result = block.__enter__()
+    result = block.begin()
     block._pushes = pushes
     return result
 
@@ -87,7 +88,7 @@ def end(block) -> None:
     """Close an open block (the innermost; every push_mask made in it undone first)."""
     if len(lanes_of().pushed) > getattr(block, "_pushes", 0):
         raise ControlFlowError(f"{block.what} block ended with a push_mask of its own not popped")
-    block.__exit__(None, None, None)
+    block.end()
 
 
 def loop_break() -> None:
