@@ -26,6 +26,7 @@ time and specialize or unroll the emitted code.
 """
 from __future__ import annotations
 
+import abc
 import typing
 from typing import Callable
 
@@ -68,18 +69,20 @@ def _mask(cond, what: str) -> Value:
     return cond if cond.width == width else value_class(VType(KINDS["Bool"], width))(cond)
 
 
-class _Block:
+class _Block(abc.ABC):
     """A block of the control-flow core: ``begin()`` opens it (a scope, blocks and branches, the
     lanes it runs for), ``end()`` closes it; ``with`` calls the two (and, when the body raised,
     leaves the block open: the build is failing anyway). ``reactor.dsl.flow`` calls them too."""
 
     what = "block"
 
+    @abc.abstractmethod
     def begin(self) -> typing.Any:
-        raise NotImplementedError
+        """Open the block where the cursor is; what ``with ... as`` gives (For: its counter)."""
 
+    @abc.abstractmethod
     def end(self) -> None:
-        raise NotImplementedError
+        """Close the block: code continues after it."""
 
     def __enter__(self) -> typing.Any:
         return self.begin()

@@ -12,18 +12,21 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 LAB = ("routines.lab", "routines.perf", "routines.search", "routines.zoo", "routines.remez", "routines.cli",
        "tqdm", "matplotlib", "mpmath")
 
-BUILD_EVERYTHING = r'''
+#: run first in a child: the lab's dependencies cannot be imported, as where the lab extra is not installed
+WITHOUT_LAB_DEPENDENCIES = r'''
 import importlib.abc, sys
-LAB = {lab!r}
 
 class Refuse(importlib.abc.MetaPathFinder):
-    """The lab's dependencies cannot be imported, as where the lab extra is not installed."""
     def find_spec(self, name, path=None, target=None):
         if name.split(".")[0] in ("tqdm", "matplotlib", "mpmath"):
-            raise ModuleNotFoundError(f"No module named {{name!r}}", name=name)
+            raise ModuleNotFoundError(f"No module named {name!r}", name=name)
         return None
 
 sys.meta_path.insert(0, Refuse())
+'''
+
+BUILD_EVERYTHING = WITHOUT_LAB_DEPENDENCIES + r'''
+LAB = {lab!r}
 import numpy as np
 import reactor, routines
 from routines import glsl, pixels
@@ -54,22 +57,14 @@ def test_the_stored_constants_are_what_the_lab_computes():
 
 
 def test_building_every_routine_imports_no_lab_and_no_lab_dependency(tmp_path):
-    r = subprocess.run([sys.executable, "-c", BUILD_EVERYTHING.format(lab=LAB)], capture_output=True, text=True,
+    r = subprocess.run([sys.executable, "-c", BUILD_EVERYTHING.replace("{lab!r}", repr(LAB))], capture_output=True, text=True,
                        cwd=tmp_path, timeout=600, env={**__import__("os").environ, "PYTHONPATH": str(ROOT)})
     assert r.returncode == 0, r.stderr[-3000:]
     assert r.stdout.strip().endswith("loaded: []"), r.stdout[-2000:]
 
 
-WITHOUT_THE_LAB = r'''
-import importlib.abc, runpy, sys
-
-class Refuse(importlib.abc.MetaPathFinder):
-    def find_spec(self, name, path=None, target=None):
-        if name.split(".")[0] in ("tqdm", "matplotlib", "mpmath"):
-            raise ModuleNotFoundError(f"No module named {name!r}", name=name)
-        return None
-
-sys.meta_path.insert(0, Refuse())
+WITHOUT_THE_LAB = WITHOUT_LAB_DEPENDENCIES + r'''
+import runpy
 sys.argv = ["routines"] + sys.argv[1:]
 runpy.run_module("routines", run_name="__main__")
 '''
