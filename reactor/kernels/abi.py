@@ -78,16 +78,16 @@ class Signature:
     """A C function of the runtime or a kernel: ``params`` are (name, kind); ``ret`` a kind or None."""
 
     def __init__(self, name: str, ret: str | None, params: list) -> None:
-        self.name, self.ret_kind, self.params_ = name, ret, tuple(params)
+        self.name, self.ret_kind, self.parameters = name, ret, tuple(params)
 
     @property
     def names(self) -> list[str]:
-        return [n for n, _ in self.params_]
+        return [n for n, _ in self.parameters]
 
     @property
     def params(self) -> list:
         """The parameters' IR types."""
-        return [KINDS[k][0] for _, k in self.params_]
+        return [KINDS[k][0] for _, k in self.parameters]
 
     @property
     def ret(self):
@@ -119,7 +119,7 @@ TASK = Struct("task", [
 LOOP = Signature("loop", None, [("args", "ptr[]"), ("dims", "i64*"), ("steps", "i64*"), ("data", "ptr")])
 #: void reactor_parallel_for(loop, args, dims, steps, data, nargs, threads, ndims)
 PARALLEL_FOR = Signature("reactor_parallel_for", None,
-                         [("loop", "ptr")] + list(LOOP.params_) + [("nargs", "i64"), ("threads", "i64"),
+                         [("loop", "ptr")] + list(LOOP.parameters) + [("nargs", "i64"), ("threads", "i64"),
                                                                   ("ndims", "i64")])
 #: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes)
 PREPARE = Signature("reactor_prepare", "i64", [
@@ -131,7 +131,7 @@ MOVE = Signature("reactor_move", "i64", [
     ("kbytes", "i64*"), ("ncols", "i64"), ("nin", "i64"), ("i", "i64"), ("n", "i64"), ("k", "i64"),
     ("width", "i64"), ("buf", "ptr"), ("slot_bytes", "i64")])
 #: void reactor_raise(args, dims, steps, data): a loop that sets Python's error from its ErrorLoop
-RAISE = Signature("reactor_raise", None, list(LOOP.params_))
+RAISE = Signature("reactor_raise", None, list(LOOP.parameters))
 
 
 def raise_python_error(em, settings, exc, message) -> None:
