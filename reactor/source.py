@@ -91,5 +91,7 @@ def with_block_calls(code, line: int) -> set[str] | None:
                 if isinstance(child, ast.Call):
                     f = child.func
                     names.add(f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else "")
+                elif isinstance(child, ast.Return):  # Python's own, which @syntax runs as Return
+                    names.add("Return")
             return names
     return None

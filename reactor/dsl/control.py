@@ -637,6 +637,8 @@ def check_python_returns(body) -> None:
     ``body``: it ends the *build* there, so the value is returned on every path
     at run time and the block's condition is silently ignored (``Return(v)``
     returns at run time)."""
+    if getattr(body, "__reactor_syntax__", False):
+        return  # @syntax made each such return a run-time Return
     found = returns_in_blocks(getattr(body, "__code__", None))
     if found:
         line, what = found

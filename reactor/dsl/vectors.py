@@ -499,11 +499,28 @@ def vector_variable(type_or_value, init=None, name: str = "var"):
     width = max([base.width] + [c.width for c in start._c])  # one width for every component
     comps = [Variable(value_class(base.with_width(width)), c, name=f"{name}.{'xyzw'[i]}")
              for i, c in enumerate(start._c)]
+    return _variable_class(cls)._of(comps)
+
+
+def _variable_class(cls):
+    """The Variable class of the vector type ``cls``."""
     var_cls = _VAR_TYPES.get(cls)
     if var_cls is None:
         var_cls = _VAR_TYPES[cls] = type(f"Variable[{cls.__name__}]", (_VecVariable, cls),
                                          {"__slots__": (), "__module__": "reactor"})
-    return var_cls._of(comps)
+    return var_cls
+
+
+def entry_vector_variable(cls, name: str = "var"):
+    """A vector Variable of type ``cls`` (per lane) declared at the function's entry, zeros there
+    (it exists on every path, wherever it is first assigned)."""
+    from .lanes import lanes_of
+    if isinstance(cls, type) and issubclass(cls, _VecVariable):
+        cls = cls.__mro__[2]
+    base = per_lane(VType(cls.kind, 1))
+    zero = False if cls.kind.category == "bool" else 0
+    comps = [lanes_of().entry_variable(base, zero, f"{name}.{'xyzw'[i]}") for i in range(cls.size)]
+    return _variable_class(cls)._of(comps)
 
 
 SELECT_FORMS[Vec] = select  # Select and Variable of GLSL vectors: per component

@@ -1,0 +1,430 @@
+"""Python as it is written, first step: ``if``/``elif``/``else`` on per-lane values.
+
+``@reactor.syntax`` rewrites a body's ``if`` statements once, when it is decorated (the
+abstract syntax tree of its source, line numbers kept): each ``if`` decides when it runs
+whether it is Python's or the kernel's. A condition that is a Python value (a bool, a number,
+a build setting) is Python's: one branch is traced, as before. A condition that is a DSL
+``Bool`` (a scalar: a branch; a mask: per lane) is the kernel's: both branches are traced
+through the control-flow core (``reactor.dsl.flow``), and every name either branch assigns
+becomes a variable of the function (stored where the branch runs, per lane under a mask), so
+after the ``if`` a name holds, in each lane, what that lane's branch gave it::
+
+    @reactor.kernel
+    @reactor.syntax
+    def shade(x: Float) -> Float:
+        if x < 0.0:
+            r = 2.0          # a Python number: a Float in the lanes that take this branch
+        elif x > 1.0:
+            r = x * x
+        else:
+            return x         # per lane: these lanes' result is x
+        return r + 1.0
+
+Inside a run-time branch, ``return v`` returns for the lanes that reach it (the others go on), and
+``Break()``/``Continue()`` act on the innermost ``with For``/``While`` loop for them. What cannot be
+honoured is an error at the user's line, never a silent wrong answer: a
+name assigned on one path only and read after the ``if`` (it names it); a Python object other
+than a number assigned or mutated under a run-time condition; ``break`` under a run-time
+condition inside a Python loop (which runs at build time). ``while`` and ``for`` over run-time
+values are still written ``with While(...)``/``with For(...)``.
+"""
+from __future__ import annotations
+
+import ast
+import copy
+import functools
+import itertools
+import numbers
+import typing
+
+from ..errors import ControlFlowError, DSLTypeError
+from ..source import body_tree
+from . import flow
+from .values import Value
+
+RUNTIME_BLOCKS = ("If", "Elif", "Else", "For", "While")
+
+
+def syntax(fn):
+    """Rewrite ``fn``'s ``if`` statements so that a DSL condition runs them at run time (see the
+    module docstring); the result is a plain function with ``fn``'s name, signature and lines.
+    Closure variables are read when ``fn`` is decorated."""
+    code = getattr(fn, "__code__", None)
+    parsed = body_tree(code)
+    if parsed is None:
+        raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
+    tree, start = parsed
+    if any(isinstance(n, (ast.Global, ast.Nonlocal)) for n, _ in _own_nodes(tree)):
+        raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
+                           f"return them instead")
+    new = _Rewriter().function(tree)
+    freevars = list(code.co_freevars)
+    factory = _def("__reactor_make", ["__rt"] + freevars, [new, ast.Return(ast.Name(tree.name, ast.Load()))])
+    module = ast.Module(body=[factory], type_ignores=[])
+    ast.fix_missing_locations(module)
+    ast.increment_lineno(module, start - 1)
+    namespace: dict = {}
+    exec(compile(module, code.co_filename, "exec"), fn.__globals__, namespace)  # noqa: S102 - the user's own code
+    cells = [c.cell_contents for c in (fn.__closure__ or ())]
+    rewritten = namespace["__reactor_make"](_Runtime, *cells)
+    rewritten.__defaults__, rewritten.__kwdefaults__ = fn.__defaults__, fn.__kwdefaults__
+    functools.update_wrapper(rewritten, fn)
+    del rewritten.__wrapped__  # its own code is what runs (and what errors point into)
+    rewritten.__reactor_syntax__ = True
+    return rewritten
+
+
+def _own_nodes(node):
+    """The nodes of ``node``'s own scope (not of nested functions, lambdas or classes)."""
+    for child in ast.iter_child_nodes(node):
+        if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            continue
+        yield child, node
+        yield from _own_nodes(child)
+
+
+def _assigned(statements) -> list[str]:
+    """Names a list of statements assigns (their own scope), in order of first assignment."""
+    names: dict[str, None] = {}
+    for stmt in statements:
+        for node in itertools.chain([stmt], (n for n, _ in _own_nodes(stmt))):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+                names.setdefault(node.id, None)
+            elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                names.setdefault(node.name, None)
+    return [n for n in names if not n.startswith("__rx")]
+
+
+def _with_block(node) -> bool:
+    """Whether a ``with`` statement opens a run-time block (If, For, ...)."""
+    for item in node.items:
+        f = item.context_expr.func if isinstance(item.context_expr, ast.Call) else None
+        name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
+        if name in RUNTIME_BLOCKS:
+            return True
+    return False
+
+
+def _def(name: str, params: list[str], body: list) -> ast.FunctionDef:
+    """A ``def`` node (the fields every supported Python needs)."""
+    fields: dict[str, typing.Any] = dict(
+        name=name, args=ast.arguments(posonlyargs=[], args=[ast.arg(p) for p in params], kwonlyargs=[],
+                                      kw_defaults=[], defaults=[]),
+        body=body, decorator_list=[], returns=None, type_comment=None)
+    if "type_params" in ast.FunctionDef._fields:
+        fields["type_params"] = []
+    return ast.FunctionDef(**fields)
+
+
+def _call(name: str, *args) -> ast.Call:
+    return ast.Call(ast.Attribute(ast.Name("__rt", ast.Load()), name, ast.Load()), list(args), [])
+
+
+def _names(names, ctx) -> ast.Tuple:
+    return ast.Tuple([ast.Name(n, ctx()) for n in names], ctx())
+
+
+class _Rewriter:
+    """The rewrite of one function. ``region`` is the names a run-time branch being written
+    assigns (None at the function's own level): there each assignment of one of them is also
+    kept in the branch's state (``__rt.keep``: stored where the branch runs), and a ``return``
+    becomes the core's Return, the branch ending there. (Python allows ``break``/``continue``
+    only in its own loops; in a run-time branch inside one they are refused when reached.)"""
+
+    def __init__(self) -> None:
+        self.count = itertools.count()  # numbers the rewritten ifs' names
+
+    def function(self, tree):
+        new = _def(tree.name, [], self.block(tree.body, None, False, False))
+        new.args, new.returns = tree.args, tree.returns
+        return ast.copy_location(new, tree)
+
+    def block(self, statements, region, in_loop: bool, in_with: bool) -> list:
+        """``statements`` (copied) rewritten; ``in_loop``: inside a Python loop of this region;
+        ``in_with``: inside a run-time ``with`` block."""
+        out: list = []
+        for stmt in copy.deepcopy(statements):
+            out.extend(self.statement(stmt, region, in_loop, in_with))
+        return out or [ast.Pass()]
+
+    def statement(self, stmt, region, in_loop, in_with) -> list:
+        if isinstance(stmt, ast.If):
+            return self.if_statement(stmt, region, in_loop, in_with)
+        if isinstance(stmt, ast.Return) and (region is not None or in_with):
+            return self.leave(stmt, region)
+        if isinstance(stmt, (ast.For, ast.AsyncFor)):
+            stmt.body = self.keep(region, _target_names(stmt.target), stmt) + \
+                self.block(stmt.body, region, True, in_with)
+            stmt.orelse = self.block(stmt.orelse, region, in_loop, in_with) if stmt.orelse else []
+            return [stmt]
+        if isinstance(stmt, ast.While):
+            stmt.body = self.block(stmt.body, region, True, in_with)
+            stmt.orelse = self.block(stmt.orelse, region, in_loop, in_with) if stmt.orelse else []
+            return [stmt]
+        if isinstance(stmt, (ast.With, ast.AsyncWith)):
+            bound = [n for item in stmt.items if item.optional_vars is not None
+                     for n in _target_names(item.optional_vars)]
+            stmt.body = self.keep(region, bound, stmt) + self.block(
+                stmt.body, region, False if _with_block(stmt) else in_loop, in_with or _with_block(stmt))
+            return [stmt]
+        if isinstance(stmt, ast.Try):
+            for field in ("body", "orelse", "finalbody"):
+                setattr(stmt, field, self.block(getattr(stmt, field), region, in_loop, in_with)
+                        if getattr(stmt, field) else [])
+            for handler in stmt.handlers:
+                handler.body = self.block(handler.body, region, in_loop, in_with)
+            return [stmt]
+        if region is None:
+            return [stmt]
+        targets = stmt.targets if isinstance(stmt, ast.Assign) else [stmt.target] \
+            if isinstance(stmt, (ast.AugAssign, ast.AnnAssign)) and getattr(stmt, "value", None) else []
+        guards = [ast.copy_location(ast.Expr(_call("check_store", t.value, ast.Constant(ast.unparse(t)))), stmt)
+                  for t in targets if isinstance(t, (ast.Attribute, ast.Subscript))]
+        return guards + [stmt] + self.keep(region, [n for t in targets for n in _target_names(t)], stmt)
+
+    def keep(self, region, names, where) -> list:
+        """``__rt.keep(state, name, value)`` for the names of ``region`` just assigned."""
+        if region is None:
+            return []
+        calls = [ast.Expr(_call("keep", ast.Name("__rx_st", ast.Load()), ast.Constant(n), ast.Name(n, ast.Load())))
+                 for n in names if n in region]
+        return [ast.fix_missing_locations(ast.copy_location(c, where)) for c in calls]
+
+    def leave(self, stmt, region) -> list:
+        """``return`` at run time: the core's Return (for the lanes that reach it); in a branch,
+        the branch ends there."""
+        out: list[ast.stmt] = [ast.Expr(_call("return_value", stmt.value or ast.Constant(None)))]
+        if region is not None:
+            out.append(ast.Return(ast.Attribute(ast.Name("__rt", ast.Load()), "RETURNED", ast.Load())))
+        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+
+    def if_statement(self, stmt: ast.If, region, in_loop, in_with) -> list:
+        k = next(self.count)
+        cond = f"__rx_cond{k}"
+        names = _assigned(stmt.body + stmt.orelse)
+        static = ast.If(ast.Name(cond, ast.Load()), self.block(stmt.body, region, in_loop, in_with),
+                        self.block(stmt.orelse, region, in_loop, in_with) if stmt.orelse else [])
+        branches = []
+        for which, body in (("then", stmt.body), ("else", stmt.orelse)):
+            inner = self.block(body, names, False, in_with) if body else [ast.Pass()]
+            if in_loop:  # a break/continue of a Python loop around: it cannot be honoured per lane
+                inner = [_PythonLoopExits().visit(s) for s in inner]
+            branches.append(_def(f"__rx_{which}{k}", ["__rx_st"] + names, inner))
+        before = ast.Tuple([_call("current", _call_locals(), ast.Constant(n)) for n in names], ast.Load())
+        merge = _call("if_stmt", ast.Name(cond, ast.Load()), ast.Tuple([ast.Constant(n) for n in names], ast.Load()),
+                      before, ast.Name(branches[0].name, ast.Load()), ast.Name(branches[1].name, ast.Load()))
+        run_time: list[ast.stmt] = list(branches)
+        run_time.append(ast.Assign([_names(names, ast.Store)], merge) if names else ast.Expr(merge))
+        run_time += self.keep(region, names, stmt)  # what this if left, kept in the branch around it
+        static_path = [static] + self.keep(region, [], stmt)
+        out = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test),
+               ast.If(_call("static", ast.Name(cond, ast.Load())), static_path, run_time)]
+        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+
+
+def _target_names(target) -> list[str]:
+    """The names an assignment target binds (``a``, ``a, (b, c)``, ``*rest``)."""
+    if isinstance(target, ast.Name):
+        return [target.id]
+    if isinstance(target, (ast.Tuple, ast.List)):
+        return [n for t in target.elts for n in _target_names(t)]
+    if isinstance(target, ast.Starred):
+        return _target_names(target.value)
+    return []
+
+
+def _call_locals() -> ast.Call:
+    return ast.Call(ast.Name("locals", ast.Load()), [], [])
+
+
+class _PythonLoopExits(ast.NodeTransformer):
+    """``break``/``continue`` that would leave a Python loop (run at build time) from a run-time
+    branch: refused when reached (those of loops inside the branch are the branch's own)."""
+
+    def visit_FunctionDef(self, node):
+        return node  # another scope
+
+    def visit_For(self, node):
+        return node  # its own loop
+
+    visit_While = visit_AsyncFor = visit_For
+
+    def visit_Break(self, node):
+        return ast.copy_location(ast.Expr(_call("python_loop_exit", ast.Constant("break"))), node)
+
+    def visit_Continue(self, node):
+        return ast.copy_location(ast.Expr(_call("python_loop_exit", ast.Constant("continue"))), node)
+
+
+# -- what the rewritten code calls ----------------------------------------------------------------
+
+class _Unset:
+    """A name assigned on some paths of a run-time ``if`` only: any use is an error naming it."""
+
+    def __init__(self, name: str, why: str = "") -> None:
+        object.__setattr__(self, "_name", name)
+        object.__setattr__(self, "_why", why or "is assigned on some paths of a run-time 'if' only: give it a "
+                                                "value before the 'if' (or in every branch)")
+
+    def _refuse(self, *args, **kwargs):
+        raise DSLTypeError(f"'{self._name}' {self._why}")
+
+    def __getattr__(self, name):
+        self._refuse()
+
+    def __repr__(self) -> str:
+        return f"<'{self._name}': not set on every path>"
+
+
+for _op in ("add", "sub", "mul", "truediv", "floordiv", "mod", "pow", "and", "or", "xor", "lshift", "rshift",
+            "matmul"):
+    setattr(_Unset, f"__{_op}__", _Unset._refuse)
+    setattr(_Unset, f"__r{_op}__", _Unset._refuse)
+for _op in ("neg", "pos", "abs", "invert", "bool", "float", "int", "index", "lt", "le", "gt", "ge", "eq", "ne",
+            "getitem", "iter", "len", "call"):
+    setattr(_Unset, f"__{_op}__", _Unset._refuse)
+
+class _Runtime:
+    """The functions the rewritten code calls (bound to ``__rt``)."""
+
+    RETURNED = ("returned",)  # what a branch gives when it ended with return: its lanes are done
+
+    @staticmethod
+    def static(cond) -> bool:
+        """Whether ``cond`` is Python's (decided while building) rather than a DSL Bool."""
+        if isinstance(cond, _Unset):
+            cond._refuse()
+        return not isinstance(cond, Value)
+
+    @staticmethod
+    def current(scope: dict, name: str):
+        return scope[name] if name in scope else _Unset(name)
+
+    @staticmethod
+    def if_stmt(cond, names, before, then_fn, else_fn):
+        return _if_stmt(cond, names, before, then_fn, else_fn)
+
+    @staticmethod
+    def keep(state, name: str, value) -> None:
+        state.keep(name, value)
+
+    return_value = staticmethod(flow.return_value)
+
+    @staticmethod
+    def python_loop_exit(what: str) -> None:
+        raise ControlFlowError(f"'{what}' under a run-time condition leaves a Python loop, which runs while "
+                               f"building: write the loop 'with For(...)' or 'with While(...)' so that it runs "
+                               f"per lane")
+
+    @staticmethod
+    def check_store(obj, target: str) -> None:
+        from .variables import PointerValue, is_variable
+        from .vectors import _VecVariable
+        if is_variable(obj) or isinstance(obj, (PointerValue, _VecVariable)):
+            return
+        raise DSLTypeError(f"'{target} = ...' under a run-time condition changes a {type(obj).__name__} for every "
+                           f"lane: assign a name instead (it becomes a per-lane variable), or use a Variable")
+
+
+class _State:
+    """What the branches of one run-time ``if`` leave in its names: a variable per name, declared
+    at the function's entry (so it exists on every path) and stored where a branch assigns it."""
+
+    def __init__(self, names, before) -> None:
+        self.slots: dict = {}
+        self.objects: dict = {}  # name -> the Python object a branch assigned (it cannot differ per lane)
+        self.assigned: set = set()  # names the branch being traced assigned
+        for name, old in zip(names, before):
+            if _storable(old) and _usable(old):
+                self.keep(name, old, mark=False)
+
+    def keep(self, name: str, value, mark: bool = True) -> None:
+        if mark:
+            self.assigned.add(name)
+        if isinstance(value, _Unset):
+            return
+        if not _storable(value):
+            self.objects[name] = value
+            return
+        if not _usable(value):  # a value of a block that ended inside the branch: not readable after it
+            self.objects[name] = value
+            return
+        slot = self.slots.get(name)
+        if slot is None:
+            slot = self.slots[name] = _slot_for(name, value)
+        try:
+            slot.set(value)
+        except (DSLTypeError, TypeError) as exc:
+            raise DSLTypeError(f"'{name}' is given values of different types under a run-time 'if' ({exc})") from None
+
+
+def _if_stmt(cond, names, before, then_fn, else_fn):
+    """Trace both branches of a run-time ``if``; each name then holds, per lane, what that lane's
+    branch left in it."""
+    state = _State(names, before)
+    unset: set = set()
+    for which, fn in (("then", then_fn), ("else", else_fn)):
+        block = flow.if_begin(cond) if which == "then" else flow.else_begin()
+        state.assigned = set()
+        if fn(state, *before) is not _Runtime.RETURNED:  # a branch that returned leaves nothing to merge
+            unset |= {n for n, old in zip(names, before) if n not in state.assigned and n not in state.slots
+                      and not _storable(old)}
+            unset |= {n for n in names if n not in state.assigned and isinstance(dict(zip(names, before))[n],
+                                                                                     _Unset)}
+        flow.end(block)
+    out = []
+    for name, old in zip(names, before):
+        if name in state.objects:
+            out.append(_Unset(name, f"was assigned a {type(state.objects[name]).__name__} under a run-time "
+                                    f"condition (only numbers and DSL values can differ per lane)"))
+        elif name in unset:
+            out.append(_Unset(name))
+        elif name in state.slots:
+            out.append(state.slots[name].value)
+        else:
+            out.append(old)
+    return tuple(out)
+
+
+def _storable(v) -> bool:
+    return isinstance(v, (bool, numbers.Number, Value)) or _is_vector(v)
+
+
+def _usable(v) -> bool:
+    """Whether ``v`` may be used here (a DSL value made inside a block that ended may not)."""
+    from ..errors import ScopeError
+    try:
+        for part in (v._c if _is_vector(v) else [v]):
+            if isinstance(part, Value):
+                part.ir  # noqa: B018 - raises if its block ended
+    except ScopeError:
+        return False
+    return True
+
+
+def _is_vector(v) -> bool:
+    from .vectors import Vec
+    return isinstance(v, Vec)
+
+
+def _slot_for(name: str, value) -> typing.Any:
+    """A variable declared at the function's entry with ``value``'s type (one value per lane in a
+    kernel's body), so that it exists on every path."""
+    from .lanes import lanes_of
+    from .values import value_class
+    from .variables import per_lane
+    lanes = lanes_of()
+    if _is_vector(value):
+        from .vectors import entry_vector_variable
+        return entry_vector_variable(type(value), name)
+    if isinstance(value, Value):
+        vtype = per_lane(value.vtype)
+    else:
+        kind = "Bool" if isinstance(value, bool) else "Float" if isinstance(value, float) else "Int"
+        vtype = per_lane(value_class(_kind_type(kind)).vtype)
+    return lanes.entry_variable(vtype, False if vtype.kind.category == "bool" else 0, name)
+
+
+def _kind_type(kind: str):
+    from ..ir.types import KINDS, VType
+    return VType(KINDS[kind], 1)
