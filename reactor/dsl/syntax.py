@@ -1,9 +1,10 @@
-"""Python as it is written, first step: ``if``/``elif``/``else`` on per-lane values.
+"""Python as it is written: ``if``/``elif``/``else``, ``while`` and ``for i in range(...)`` on
+per-lane values.
 
-``@reactor.syntax`` rewrites a body's ``if`` statements once, when it is decorated (the
-abstract syntax tree of its source, line numbers kept): each ``if`` decides when it runs
-whether it is Python's or the kernel's. A condition that is a Python value (a bool, a number,
-a build setting) is Python's: one branch is traced, as before. A condition that is a DSL
+``@reactor.syntax`` rewrites a body's ``if``, ``while`` and ``for ... in range(...)`` statements
+once, when it is decorated (the abstract syntax tree of its source, line numbers kept): each
+decides when it runs whether it is Python's or the kernel's. A condition that is a Python
+value (a bool, a number, a build setting) is Python's: one branch is traced, as before. A condition that is a DSL
 ``Bool`` (a scalar: a branch; a mask: per lane) is the kernel's: both branches are traced
 through the control-flow core (``reactor.dsl.flow``), and every name either branch assigns
 becomes a variable of the function (stored where the branch runs, per lane under a mask), so
@@ -20,13 +21,15 @@ after the ``if`` a name holds, in each lane, what that lane's branch gave it::
             return x         # per lane: these lanes' result is x
         return r + 1.0
 
-Inside a run-time branch, ``return v`` returns for the lanes that reach it (the others go on), and
-``Break()``/``Continue()`` act on the innermost ``with For``/``While`` loop for them. What cannot be
-honoured is an error at the user's line, never a silent wrong answer: a
-name assigned on one path only and read after the ``if`` (it names it); a Python object other
-than a number assigned or mutated under a run-time condition; ``break`` under a run-time
-condition inside a Python loop (which runs at build time). ``while`` and ``for`` over run-time
-values are still written ``with While(...)``/``with For(...)``.
+A ``while`` or ``for`` over DSL values is a run-time loop (per lane where its test or bound is): the
+names its body assigns are carried from one iteration to the next, per lane, and after it hold
+their last values (a name first assigned inside has none: the loop may not have run). Inside a
+run-time branch or loop, ``return v`` returns for the lanes that reach it (the others go on), and
+``break``/``continue`` act per lane on the innermost run-time loop (``Break()``/``Continue()`` on a
+``with For``/``While``). What cannot be honoured is an error at the user's line, never a silent
+wrong answer: a name assigned on one path only and read afterwards (it names it); a Python object
+other than a number assigned, or mutated, under a run-time condition; ``break`` under a run-time
+condition out of a Python loop (which runs at build time).
 """
 from __future__ import annotations
 
@@ -125,54 +128,66 @@ def _names(names, ctx) -> ast.Tuple:
 
 
 class _Rewriter:
-    """The rewrite of one function. ``region`` is the names a run-time branch being written
-    assigns (None at the function's own level): there each assignment of one of them is also
-    kept in the branch's state (``__rt.keep``: stored where the branch runs), and a ``return``
-    becomes the core's Return, the branch ending there. (Python allows ``break``/``continue``
-    only in its own loops; in a run-time branch inside one they are refused when reached.)"""
+    """The rewrite of one function. ``region`` is the names a run-time branch or loop body being
+    written assigns (None at the function's own level): there each assignment of one of them is
+    also kept in its state (``__rt.keep``: stored where it runs), and a ``return`` becomes the
+    core's Return, the branch or body ending there. ``loop`` is the innermost loop around, within
+    the region: "python" (it runs while building), "run" (a run-time loop: ``break`` and
+    ``continue`` become the core's, per lane) or None."""
 
     def __init__(self) -> None:
-        self.count = itertools.count()  # numbers the rewritten ifs' names
+        self.count = itertools.count()  # numbers the rewritten statements' names
 
     def function(self, tree):
-        new = _def(tree.name, [], self.block(tree.body, None, False, False))
+        new = _def(tree.name, [], self.block(tree.body, None, None, False))
         new.args, new.returns = tree.args, tree.returns
         return ast.copy_location(new, tree)
 
-    def block(self, statements, region, in_loop: bool, in_with: bool) -> list:
-        """``statements`` (copied) rewritten; ``in_loop``: inside a Python loop of this region;
-        ``in_with``: inside a run-time ``with`` block."""
+    def block(self, statements, region, loop, in_with: bool) -> list:
+        """``statements`` (copied) rewritten; ``in_with``: inside a run-time ``with`` block."""
         out: list = []
         for stmt in copy.deepcopy(statements):
-            out.extend(self.statement(stmt, region, in_loop, in_with))
+            out.extend(self.statement(stmt, region, loop, in_with))
         return out or [ast.Pass()]
 
-    def statement(self, stmt, region, in_loop, in_with) -> list:
+    def statement(self, stmt, region, loop, in_with) -> list:
         if isinstance(stmt, ast.If):
-            return self.if_statement(stmt, region, in_loop, in_with)
+            return self.if_statement(stmt, region, loop, in_with)
+        if isinstance(stmt, ast.While) and not stmt.orelse:
+            return self.while_statement(stmt, region, loop, in_with)
+        if isinstance(stmt, ast.For) and _range_call(stmt) is not None:
+            return self.for_statement(stmt, region, loop, in_with)
         if isinstance(stmt, ast.Return) and (region is not None or in_with):
             return self.leave(stmt, region)
+        if isinstance(stmt, (ast.Break, ast.Continue)) and loop == "run":
+            what = "loop_break" if isinstance(stmt, ast.Break) else "loop_continue"
+            return [ast.fix_missing_locations(ast.copy_location(ast.Expr(_call(what)), stmt))]
+        if isinstance(stmt, (ast.Break, ast.Continue)) and loop is None and region is not None:
+            word = "break" if isinstance(stmt, ast.Break) else "continue"
+            return [ast.fix_missing_locations(ast.copy_location(ast.Expr(_call("python_loop_exit",
+                                                                                 ast.Constant(word))), stmt))]
         if isinstance(stmt, (ast.For, ast.AsyncFor)):
             stmt.body = self.keep(region, _target_names(stmt.target), stmt) + \
-                self.block(stmt.body, region, True, in_with)
-            stmt.orelse = self.block(stmt.orelse, region, in_loop, in_with) if stmt.orelse else []
+                self.block(stmt.body, region, "python", in_with)
+            stmt.orelse = self.block(stmt.orelse, region, loop, in_with) if stmt.orelse else []
             return [stmt]
         if isinstance(stmt, ast.While):
-            stmt.body = self.block(stmt.body, region, True, in_with)
-            stmt.orelse = self.block(stmt.orelse, region, in_loop, in_with) if stmt.orelse else []
+            stmt.body = self.block(stmt.body, region, "python", in_with)
+            stmt.orelse = self.block(stmt.orelse, region, loop, in_with) if stmt.orelse else []
             return [stmt]
         if isinstance(stmt, (ast.With, ast.AsyncWith)):
             bound = [n for item in stmt.items if item.optional_vars is not None
                      for n in _target_names(item.optional_vars)]
+            run_block = _with_block(stmt)
             stmt.body = self.keep(region, bound, stmt) + self.block(
-                stmt.body, region, False if _with_block(stmt) else in_loop, in_with or _with_block(stmt))
+                stmt.body, region, None if run_block else loop, in_with or run_block)
             return [stmt]
         if isinstance(stmt, ast.Try):
             for field in ("body", "orelse", "finalbody"):
-                setattr(stmt, field, self.block(getattr(stmt, field), region, in_loop, in_with)
+                setattr(stmt, field, self.block(getattr(stmt, field), region, loop, in_with)
                         if getattr(stmt, field) else [])
             for handler in stmt.handlers:
-                handler.body = self.block(handler.body, region, in_loop, in_with)
+                handler.body = self.block(handler.body, region, loop, in_with)
             return [stmt]
         if region is None:
             return [stmt]
@@ -191,35 +206,88 @@ class _Rewriter:
         return [ast.fix_missing_locations(ast.copy_location(c, where)) for c in calls]
 
     def leave(self, stmt, region) -> list:
-        """``return`` at run time: the core's Return (for the lanes that reach it); in a branch,
-        the branch ends there."""
+        """``return`` at run time: the core's Return (for the lanes that reach it); in a branch or
+        loop body, it ends there."""
         out: list[ast.stmt] = [ast.Expr(_call("return_value", stmt.value or ast.Constant(None)))]
         if region is not None:
             out.append(ast.Return(ast.Attribute(ast.Name("__rt", ast.Load()), "RETURNED", ast.Load())))
         return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
 
-    def if_statement(self, stmt: ast.If, region, in_loop, in_with) -> list:
+    def run_time(self, stmt, region, kind: str, test_name: str, names: list, fns: list, extra=()) -> list:
+        """The run-time path: the nested functions, then ``names = __rt.<kind>_stmt(...)`` and what
+        it left kept in the region around."""
+        before = ast.Tuple([_call("current", _call_locals(), ast.Constant(n)) for n in names], ast.Load())
+        merge = _call(f"{kind}_stmt", ast.Name(test_name, ast.Load()), *extra,
+                      ast.Tuple([ast.Constant(n) for n in names], ast.Load()), before,
+                      *[ast.Name(f.name, ast.Load()) for f in fns])
+        out: list[ast.stmt] = list(fns)
+        out.append(ast.Assign([_names(names, ast.Store)], merge) if names else ast.Expr(merge))
+        return out + self.keep(region, names, stmt)
+
+    def if_statement(self, stmt: ast.If, region, loop, in_with) -> list:
         k = next(self.count)
         cond = f"__rx_cond{k}"
         names = _assigned(stmt.body + stmt.orelse)
-        static = ast.If(ast.Name(cond, ast.Load()), self.block(stmt.body, region, in_loop, in_with),
-                        self.block(stmt.orelse, region, in_loop, in_with) if stmt.orelse else [])
-        branches = []
-        for which, body in (("then", stmt.body), ("else", stmt.orelse)):
-            inner = self.block(body, names, False, in_with) if body else [ast.Pass()]
-            if in_loop:  # a break/continue of a Python loop around: it cannot be honoured per lane
-                inner = [_PythonLoopExits().visit(s) for s in inner]
-            branches.append(_def(f"__rx_{which}{k}", ["__rx_st"] + names, inner))
-        before = ast.Tuple([_call("current", _call_locals(), ast.Constant(n)) for n in names], ast.Load())
-        merge = _call("if_stmt", ast.Name(cond, ast.Load()), ast.Tuple([ast.Constant(n) for n in names], ast.Load()),
-                      before, ast.Name(branches[0].name, ast.Load()), ast.Name(branches[1].name, ast.Load()))
-        run_time: list[ast.stmt] = list(branches)
-        run_time.append(ast.Assign([_names(names, ast.Store)], merge) if names else ast.Expr(merge))
-        run_time += self.keep(region, names, stmt)  # what this if left, kept in the branch around it
-        static_path = [static] + self.keep(region, [], stmt)
+        static = ast.If(ast.Name(cond, ast.Load()), self.block(stmt.body, region, loop, in_with),
+                        self.block(stmt.orelse, region, loop, in_with) if stmt.orelse else [])
+        fns = [_def(f"__rx_{which}{k}", ["__rx_st"] + names,
+                    self.block(body, names, "run" if loop == "run" else None, in_with) if body else [ast.Pass()])
+               for which, body in (("then", stmt.body), ("else", stmt.orelse))]
         out = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test),
-               ast.If(_call("static", ast.Name(cond, ast.Load())), static_path, run_time)]
+               ast.If(_call("static", ast.Name(cond, ast.Load())), [static],
+                      self.run_time(stmt, region, "if", cond, names, fns))]
         return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+
+    def while_statement(self, stmt: ast.While, region, loop, in_with) -> list:
+        """``while test:`` -- Python's loop while ``test`` is a Python value, else a run-time loop
+        whose names assigned in the body are carried from one iteration to the next per lane."""
+        k = next(self.count)
+        cond, first = f"__rx_cond{k}", f"__rx_first{k}"
+        names = _assigned(stmt.body)
+        # Python's own loop, the test evaluated once per iteration (continue included)
+        static = [ast.Assign([ast.Name(first, ast.Store())], ast.Constant(True)),
+                  ast.While(ast.Constant(True), [
+                      ast.If(ast.UnaryOp(ast.Not(), ast.Name(first, ast.Load())),
+                             [ast.Assign([ast.Name(cond, ast.Store())], copy.deepcopy(stmt.test))], []),
+                      ast.Assign([ast.Name(first, ast.Store())], ast.Constant(False)),
+                      ast.If(ast.UnaryOp(ast.Not(), ast.Name(cond, ast.Load())), [ast.Break()], []),
+                  ] + self.block(stmt.body, region, "python", in_with), [])]
+        fns = [_def(f"__rx_test{k}", ["__rx_st"] + names, [ast.Return(copy.deepcopy(stmt.test))]),
+               _def(f"__rx_body{k}", ["__rx_st"] + names, self.block(stmt.body, names, "run", in_with))]
+        out = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test),
+               ast.If(_call("static", ast.Name(cond, ast.Load())), static,
+                      self.run_time(stmt, region, "while", cond, names, fns))]
+        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+
+    def for_statement(self, stmt: ast.For, region, loop, in_with) -> list:
+        """``for i in range(...)`` -- Python's loop over Python ints, else a run-time For (its
+        counter per lane where a bound is)."""
+        k = next(self.count)
+        bounds = f"__rx_range{k}"
+        target = typing.cast(ast.Name, stmt.target).id
+        call = typing.cast(ast.Call, _range_call(stmt))
+        names = [n for n in _assigned(stmt.body) if n != target]
+        static = ast.For(ast.Name(target, ast.Store()),
+                         ast.Call(ast.Name("range", ast.Load()), [ast.Starred(ast.Name(bounds, ast.Load()),
+                                                                              ast.Load())], []),
+                         self.keep(region, [target], stmt) + self.block(stmt.body, region, "python", in_with), [])
+        fns = [_def(f"__rx_body{k}", ["__rx_st", target] + names, self.block(stmt.body, names, "run", in_with))]
+        gone = ast.Assign([ast.Name(target, ast.Store())], _call("counter_after_loop", ast.Constant(target)))
+        out = [ast.Assign([ast.Name(bounds, ast.Store())], ast.Tuple(call.args, ast.Load())),
+               ast.If(_call("static_range", ast.Name(bounds, ast.Load())), [static],
+                      self.run_time(stmt, region, "for", bounds, names, fns) + [gone]
+                      + self.keep(region, [target], stmt))]
+        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+
+
+def _range_call(stmt: ast.For) -> ast.Call | None:
+    """The ``range(...)`` call of ``for name in range(...):`` (no else, no keywords), else None."""
+    it = stmt.iter
+    if (isinstance(it, ast.Call) and isinstance(it.func, ast.Name) and it.func.id == "range" and not it.keywords
+            and 1 <= len(it.args) <= 3 and not any(isinstance(a, ast.Starred) for a in it.args)
+            and isinstance(stmt.target, ast.Name) and not stmt.orelse):
+        return it
+    return None
 
 
 def _target_names(target) -> list[str]:
@@ -235,25 +303,6 @@ def _target_names(target) -> list[str]:
 
 def _call_locals() -> ast.Call:
     return ast.Call(ast.Name("locals", ast.Load()), [], [])
-
-
-class _PythonLoopExits(ast.NodeTransformer):
-    """``break``/``continue`` that would leave a Python loop (run at build time) from a run-time
-    branch: refused when reached (those of loops inside the branch are the branch's own)."""
-
-    def visit_FunctionDef(self, node):
-        return node  # another scope
-
-    def visit_For(self, node):
-        return node  # its own loop
-
-    visit_While = visit_AsyncFor = visit_For
-
-    def visit_Break(self, node):
-        return ast.copy_location(ast.Expr(_call("python_loop_exit", ast.Constant("break"))), node)
-
-    def visit_Continue(self, node):
-        return ast.copy_location(ast.Expr(_call("python_loop_exit", ast.Constant("continue"))), node)
 
 
 # -- what the rewritten code calls ----------------------------------------------------------------
@@ -309,6 +358,39 @@ class _Runtime:
         state.keep(name, value)
 
     return_value = staticmethod(flow.return_value)
+    loop_break = staticmethod(flow.loop_break)
+    loop_continue = staticmethod(flow.loop_continue)
+
+    @staticmethod
+    def counter_after_loop(name: str):
+        return _Unset(name, "is the counter of a run-time loop: it has no value after the loop (keep what "
+                            "you need in a name assigned in the body)")
+
+    @staticmethod
+    def static_range(bounds) -> bool:
+        """Whether ``range(*bounds)`` is Python's (every bound a Python int)."""
+        for b in bounds:
+            if isinstance(b, _Unset):
+                b._refuse()
+        return not any(isinstance(b, Value) for b in bounds)
+
+    @staticmethod
+    def while_stmt(first_test, names, before, test_fn, body_fn):
+        return _loop(names, before, lambda state, values: flow.while_begin(
+            lambda: test_fn(state, *values()), lane_exits=True), body_fn)
+
+    @staticmethod
+    def for_stmt(bounds, names, before, body_fn):
+        start, stop, step = (0, bounds[0], 1) if len(bounds) == 1 else (bounds[0], bounds[1], 1) \
+            if len(bounds) == 2 else bounds
+        if not isinstance(step, int) or isinstance(step, bool):
+            raise DSLTypeError(f"range(...)'s step must be a Python int in a run-time loop, not {step!r}")
+        opened = {}
+
+        def begin(state, values):
+            block, opened["i"] = flow.for_begin(start, stop, step, lane_exits=True)
+            return block
+        return _loop(names, before, begin, lambda state, *vals: body_fn(state, opened["i"], *vals))
 
     @staticmethod
     def python_loop_exit(what: str) -> None:
@@ -342,6 +424,7 @@ class _State:
         if mark:
             self.assigned.add(name)
         if isinstance(value, _Unset):
+            self.objects[name] = value
             return
         if not _storable(value):
             self.objects[name] = value
@@ -374,13 +457,45 @@ def _if_stmt(cond, names, before, then_fn, else_fn):
         flow.end(block)
     out = []
     for name, old in zip(names, before):
-        if name in state.objects:
+        if isinstance(state.objects.get(name), _Unset):
+            out.append(state.objects[name])
+        elif name in state.objects:
             out.append(_Unset(name, f"was assigned a {type(state.objects[name]).__name__} under a run-time "
                                     f"condition (only numbers and DSL values can differ per lane)"))
         elif name in unset:
             out.append(_Unset(name))
         elif name in state.slots:
             out.append(state.slots[name].value)
+        else:
+            out.append(old)
+    return tuple(out)
+
+
+def _loop(names, before, begin, body_fn):
+    """A run-time loop: the names its body assigns live in variables declared before it (those
+    with a value there), read at the top of each iteration and stored where they are assigned,
+    per lane; after the loop each holds its last value (a name first assigned in the body has
+    none: the loop may not have run)."""
+    state = _State(names, before)
+
+    def values():
+        return [state.slots[n].value if n in state.slots else old for n, old in zip(names, before)]
+    block = begin(state, values)
+    state.assigned = set()
+    body_fn(state, *values())
+    flow.end(block)
+    out = []
+    for name, old in zip(names, before):
+        if isinstance(state.objects.get(name), _Unset):
+            out.append(state.objects[name])
+        elif name in state.objects:
+            out.append(_Unset(name, f"was assigned a {type(state.objects[name]).__name__} in a run-time loop "
+                                    f"(only numbers and DSL values can differ per lane)"))
+        elif name in state.slots and (_storable(old) and _usable(old)):
+            out.append(state.slots[name].value)
+        elif name in state.slots or isinstance(old, _Unset):
+            out.append(_Unset(name, "is first assigned in a run-time loop, which may not run: give it a value "
+                                    "before the loop"))
         else:
             out.append(old)
     return tuple(out)

@@ -151,3 +151,102 @@ def test_undecorated_code_is_untouched():
 
     with pytest.raises(DSLTypeError, match="no Python truth value"):
         kernel(plain, name="plain")
+
+
+@kernel
+@syntax
+def halvings(x: Float) -> Float:
+    v = x
+    n = 0.0
+    while v > 1.0:                   # a run-time loop, per lane
+        v = v * 0.5
+        n += 1.0
+        if n > 3.0:
+            break                    # per lane
+        if v < 1.5:
+            continue
+        v = v - 0.125
+    return v + n * 100.0
+
+
+def test_a_while_loop_with_break_and_continue_per_lane():
+    v = np.abs(X) * 3
+    want = []
+    for x0 in v:
+        w, n = np.float32(x0), np.float32(0)
+        while w > 1:
+            w, n = w * np.float32(0.5), n + 1
+            if n > 3:
+                break
+            if w < 1.5:
+                continue
+            w = w - np.float32(0.125)
+        want.append(w + n * np.float32(100))
+    assert np.array_equal(halvings(v), np.array(want, np.float32))
+
+
+@kernel
+@syntax
+def sum_to(x: Float, k: Int) -> Float:
+    total = 0.0
+    for i in range(k):               # a per-lane bound: a run-time For
+        if i == 5:
+            continue
+        total += x * Float(i)
+    for j in range(3):               # Python ints: unrolled while building
+        total = total + 1.0
+    return total
+
+
+def test_for_range_with_a_per_lane_bound():
+    k = (np.arange(X.size) % 9).astype(np.int32)
+    want = np.array([x * sum(i for i in range(n) if i != 5) + 3 for x, n in zip(X, k)], np.float32)
+    assert np.allclose(sum_to(X, k), want, rtol=1e-6, atol=1e-5)
+
+
+@kernel
+@syntax
+def first_above(x: Float) -> Float:
+    v = x
+    while v < 100.0:
+        v = v * 2.0 + 1.0
+        if v > 50.0:
+            return -v                # per lane, from inside the loop
+    return v
+
+
+def test_a_return_inside_a_run_time_loop():
+    want = []
+    for x0 in np.abs(X):
+        v = np.float32(x0)
+        out = None
+        while v < 100:
+            v = v * np.float32(2) + np.float32(1)
+            if v > 50:
+                out = -v
+                break
+        want.append(v if out is None else out)
+    assert np.array_equal(first_above(np.abs(X)), np.array(want, np.float32))
+
+
+def test_a_name_first_assigned_in_a_run_time_loop_is_an_error_after_it():
+    def late(x: Float) -> Float:
+        v = x
+        while v < 10.0:
+            step = v * 0.5
+            v = v + step + 1.0
+        return step
+
+    with pytest.raises(DSLTypeError, match="'step' is first assigned in a run-time loop"):
+        _build(late)
+
+
+def test_a_run_time_loops_counter_has_no_value_after_it():
+    def counter(x: Float, k: Int) -> Float:
+        i = 0
+        for i in range(k):
+            x = x + 1.0
+        return x * Float(i)
+
+    with pytest.raises(DSLTypeError, match="'i' is the counter of a run-time loop"):
+        _build(counter)
