@@ -36,12 +36,14 @@ from __future__ import annotations
 import ast
 import copy
 import functools
+import inspect
 import itertools
+import linecache
 import numbers
+import textwrap
 import typing
 
 from ..errors import ControlFlowError, DSLTypeError
-from ..source import body_tree
 from . import flow
 from .values import Value
 
@@ -49,25 +51,28 @@ RUNTIME_BLOCKS = ("If", "Elif", "Else", "For", "While")
 
 
 def syntax(fn):
-    """Rewrite ``fn``'s ``if`` statements so that a DSL condition runs them at run time (see the
-    module docstring); the result is a plain function with ``fn``'s name, signature and lines.
+    """Rewrite ``fn``'s ``if``, ``while`` and ``for ... in range(...)`` statements so that a DSL
+    condition runs them at run time (see the module docstring); the result is a plain function
+    with ``fn``'s name, signature and lines (``fn`` itself where there is nothing to rewrite).
     Closure variables are read when ``fn`` is decorated."""
     code = getattr(fn, "__code__", None)
-    parsed = body_tree(code)
-    if parsed is None:
+    tree = _fresh_tree(code)
+    if tree is None:
         raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
-    tree, start = parsed
-    if any(isinstance(n, (ast.Global, ast.Nonlocal)) for n, _ in _own_nodes(tree)):
+    kinds = {type(n) for n in ast.walk(tree)}
+    if not kinds & {ast.If, ast.While, ast.For, ast.Return}:
+        return fn  # nothing to rewrite
+    if kinds & {ast.Global, ast.Nonlocal}:
         raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
                            f"return them instead")
     new = _Rewriter().function(tree)
-    freevars = list(code.co_freevars)
-    factory = _def("__reactor_make", ["__rt"] + freevars, [new, ast.Return(ast.Name(tree.name, ast.Load()))])
-    module = ast.Module(body=[factory], type_ignores=[])
-    ast.fix_missing_locations(module)
-    ast.increment_lineno(module, start - 1)
+    factory = _def("__reactor_make", ["__rt"] + list(code.co_freevars),
+                   [new, ast.Return(ast.Name(tree.name, ast.Load()))])
+    for node in [factory, factory.body[1], factory.body[1].value] + factory.args.args:  # the only new nodes here
+        ast.copy_location(node, tree)
     namespace: dict = {}
-    exec(compile(module, code.co_filename, "exec"), fn.__globals__, namespace)  # noqa: S102 - the user's own code
+    exec(compile(ast.Module(body=[factory], type_ignores=[]), code.co_filename, "exec"),  # noqa: S102 - the user's
+         fn.__globals__, namespace)                                                         # own code, rewritten
     cells = [c.cell_contents for c in (fn.__closure__ or ())]
     rewritten = namespace["__reactor_make"](_Runtime, *cells)
     rewritten.__defaults__, rewritten.__kwdefaults__ = fn.__defaults__, fn.__kwdefaults__
@@ -75,6 +80,39 @@ def syntax(fn):
     del rewritten.__wrapped__  # its own code is what runs (and what errors point into)
     rewritten.__reactor_syntax__ = True
     return rewritten
+
+
+def _fresh_tree(code) -> ast.FunctionDef | None:
+    """The ``def`` of a code object, parsed anew (the rewrite changes it), with the file's line
+    numbers; None without source. The block is cut from the file by indentation (a tokenizer,
+    as ``inspect`` uses, costs more than the whole rewrite), ``inspect``'s way if that fails."""
+    if code is None:
+        return None
+    lines = linecache.getlines(code.co_filename)
+    first = code.co_firstlineno - 1
+    if 0 <= first < len(lines):
+        indent = len(lines[first]) - len(lines[first].lstrip())
+        end = first + 1
+        while end < len(lines) and (not lines[end].strip() or len(lines[end]) - len(lines[end].lstrip()) > indent
+                                    or lines[end].lstrip().startswith((")", "]", "}"))):
+            end += 1
+        tree = _parse_def(lines[first:end], first + 1)
+        if tree is not None:
+            return tree
+    try:
+        block, start = inspect.getsourcelines(code)
+    except (OSError, TypeError):
+        return None
+    return _parse_def(block, start)
+
+
+def _parse_def(lines: list[str], start: int) -> ast.FunctionDef | None:
+    try:
+        tree = ast.parse("\n" * (start - 1) + textwrap.dedent("".join(lines)))
+    except (SyntaxError, IndentationError, ValueError):
+        return None
+    fn = tree.body[0] if len(tree.body) == 1 else None
+    return fn if isinstance(fn, ast.FunctionDef) else None
 
 
 def _own_nodes(node):
@@ -144,9 +182,10 @@ class _Rewriter:
         return ast.copy_location(new, tree)
 
     def block(self, statements, region, loop, in_with: bool) -> list:
-        """``statements`` (copied) rewritten; ``in_with``: inside a run-time ``with`` block."""
+        """``statements`` rewritten (their nodes are changed in place: pass a copy to use them
+        twice); ``in_with``: inside a run-time ``with`` block."""
         out: list = []
-        for stmt in copy.deepcopy(statements):
+        for stmt in statements:
             out.extend(self.statement(stmt, region, loop, in_with))
         return out or [ast.Pass()]
 
@@ -228,11 +267,12 @@ class _Rewriter:
         k = next(self.count)
         cond = f"__rx_cond{k}"
         names = _assigned(stmt.body + stmt.orelse)
+        then_copy, else_copy = copy.deepcopy(stmt.body), copy.deepcopy(stmt.orelse)
         static = ast.If(ast.Name(cond, ast.Load()), self.block(stmt.body, region, loop, in_with),
                         self.block(stmt.orelse, region, loop, in_with) if stmt.orelse else [])
         fns = [_def(f"__rx_{which}{k}", ["__rx_st"] + names,
                     self.block(body, names, "run" if loop == "run" else None, in_with) if body else [ast.Pass()])
-               for which, body in (("then", stmt.body), ("else", stmt.orelse))]
+               for which, body in (("then", then_copy), ("else", else_copy))]
         out = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test),
                ast.If(_call("static", ast.Name(cond, ast.Load())), [static],
                       self.run_time(stmt, region, "if", cond, names, fns))]
@@ -244,6 +284,7 @@ class _Rewriter:
         k = next(self.count)
         cond, first = f"__rx_cond{k}", f"__rx_first{k}"
         names = _assigned(stmt.body)
+        body_copy = copy.deepcopy(stmt.body)
         # Python's own loop, the test evaluated once per iteration (continue included)
         static = [ast.Assign([ast.Name(first, ast.Store())], ast.Constant(True)),
                   ast.While(ast.Constant(True), [
@@ -253,7 +294,7 @@ class _Rewriter:
                       ast.If(ast.UnaryOp(ast.Not(), ast.Name(cond, ast.Load())), [ast.Break()], []),
                   ] + self.block(stmt.body, region, "python", in_with), [])]
         fns = [_def(f"__rx_test{k}", ["__rx_st"] + names, [ast.Return(copy.deepcopy(stmt.test))]),
-               _def(f"__rx_body{k}", ["__rx_st"] + names, self.block(stmt.body, names, "run", in_with))]
+               _def(f"__rx_body{k}", ["__rx_st"] + names, self.block(body_copy, names, "run", in_with))]
         out = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test),
                ast.If(_call("static", ast.Name(cond, ast.Load())), static,
                       self.run_time(stmt, region, "while", cond, names, fns))]
@@ -267,11 +308,12 @@ class _Rewriter:
         target = typing.cast(ast.Name, stmt.target).id
         call = typing.cast(ast.Call, _range_call(stmt))
         names = [n for n in _assigned(stmt.body) if n != target]
+        body_copy = copy.deepcopy(stmt.body)
         static = ast.For(ast.Name(target, ast.Store()),
                          ast.Call(ast.Name("range", ast.Load()), [ast.Starred(ast.Name(bounds, ast.Load()),
                                                                               ast.Load())], []),
                          self.keep(region, [target], stmt) + self.block(stmt.body, region, "python", in_with), [])
-        fns = [_def(f"__rx_body{k}", ["__rx_st", target] + names, self.block(stmt.body, names, "run", in_with))]
+        fns = [_def(f"__rx_body{k}", ["__rx_st", target] + names, self.block(body_copy, names, "run", in_with))]
         gone = ast.Assign([ast.Name(target, ast.Store())], _call("counter_after_loop", ast.Constant(target)))
         out = [ast.Assign([ast.Name(bounds, ast.Store())], ast.Tuple(call.args, ast.Load())),
                ast.If(_call("static_range", ast.Name(bounds, ast.Load())), [static],
