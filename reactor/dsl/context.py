@@ -31,6 +31,7 @@ class Body:
     lanes: "Lanes | None" = None  # the execution-mask state, made on first use
     unentered: list = dataclasses.field(default_factory=list)  # blocks created, never entered with 'with'
     after_return: tuple[str, int] | None = None  # where code emitted after the body returned belongs
+    named: dict = dataclasses.field(default_factory=dict)  # @syntax's variables: (function, name) -> Variable
 
     def location(self) -> tuple[str, int] | None:
         """The user's ``(file, line)`` of what is being emitted now."""

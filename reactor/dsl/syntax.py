@@ -65,7 +65,7 @@ def syntax(fn):
     if kinds & {ast.Global, ast.Nonlocal}:
         raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
                            f"return them instead")
-    new = _Rewriter().function(tree)
+    new = _Rewriter(f"{code.co_filename}:{tree.lineno}:{tree.name}").function(tree)
     factory = _def("__reactor_make", ["__rt"] + list(code.co_freevars),
                    [new, ast.Return(ast.Name(tree.name, ast.Load()))])
     for node in [factory, factory.body[1], factory.body[1].value] + factory.args.args:  # the only new nodes here
@@ -173,8 +173,9 @@ class _Rewriter:
     the region: "python" (it runs while building), "run" (a run-time loop: ``break`` and
     ``continue`` become the core's, per lane) or None."""
 
-    def __init__(self) -> None:
+    def __init__(self, owner: str) -> None:
         self.count = itertools.count()  # numbers the rewritten statements' names
+        self.owner = owner  # names this function's variables apart from another's (a helper's)
 
     def function(self, tree):
         new = _def(tree.name, [], self.block(tree.body, None, None, False))
@@ -256,7 +257,7 @@ class _Rewriter:
         """The run-time path: the nested functions, then ``names = __rt.<kind>_stmt(...)`` and what
         it left kept in the region around."""
         before = ast.Tuple([_call("current", _call_locals(), ast.Constant(n)) for n in names], ast.Load())
-        merge = _call(f"{kind}_stmt", ast.Name(test_name, ast.Load()), *extra,
+        merge = _call(f"{kind}_stmt", ast.Constant(self.owner), ast.Name(test_name, ast.Load()), *extra,
                       ast.Tuple([ast.Constant(n) for n in names], ast.Load()), before,
                       *[ast.Name(f.name, ast.Load()) for f in fns])
         out: list[ast.stmt] = list(fns)
@@ -392,8 +393,8 @@ class _Runtime:
         return scope[name] if name in scope else _Unset(name)
 
     @staticmethod
-    def if_stmt(cond, names, before, then_fn, else_fn):
-        return _if_stmt(cond, names, before, then_fn, else_fn)
+    def if_stmt(owner, cond, names, before, then_fn, else_fn):
+        return _if_stmt(owner, cond, names, before, then_fn, else_fn)
 
     @staticmethod
     def keep(state, name: str, value) -> None:
@@ -417,12 +418,12 @@ class _Runtime:
         return not any(isinstance(b, Value) for b in bounds)
 
     @staticmethod
-    def while_stmt(first_test, names, before, test_fn, body_fn):
-        return _loop(names, before, lambda state, values: flow.while_begin(
+    def while_stmt(owner, first_test, names, before, test_fn, body_fn):
+        return _loop(owner, names, before, lambda state, values: flow.while_begin(
             lambda: test_fn(state, *values()), lane_exits=True), body_fn)
 
     @staticmethod
-    def for_stmt(bounds, names, before, body_fn):
+    def for_stmt(owner, bounds, names, before, body_fn):
         start, stop, step = (0, bounds[0], 1) if len(bounds) == 1 else (bounds[0], bounds[1], 1) \
             if len(bounds) == 2 else bounds
         if not isinstance(step, int) or isinstance(step, bool):
@@ -432,7 +433,7 @@ class _Runtime:
         def begin(state, values):
             block, opened["i"] = flow.for_begin(start, stop, step, lane_exits=True)
             return block
-        return _loop(names, before, begin, lambda state, *vals: body_fn(state, opened["i"], *vals))
+        return _loop(owner, names, before, begin, lambda state, *vals: body_fn(state, opened["i"], *vals))
 
     @staticmethod
     def python_loop_exit(what: str) -> None:
@@ -451,42 +452,61 @@ class _Runtime:
 
 
 class _State:
-    """What the branches of one run-time ``if`` leave in its names: a variable per name, declared
-    at the function's entry (so it exists on every path) and stored where a branch assigns it."""
+    """The names of one run-time ``if`` or loop. Each name lives in one variable of the function
+    (declared at its entry, so it exists on every path), shared by every construct of the body
+    that assigns it: an assignment stores there at once, where it runs (per lane under a mask),
+    so what a branch assigned before a ``break`` or ``continue`` is not lost."""
 
-    def __init__(self, names, before) -> None:
-        self.slots: dict = {}
+    def __init__(self, owner: str, names, before) -> None:
+        from .context import body_of
+        body = body_of()
+        if body is None:
+            raise ControlFlowError("@syntax code runs outside a body being built")
+        self.owner, self.shared = owner, body.named
+        self.slots: dict = {}  # the names this construct touched -> their variable
         self.objects: dict = {}  # name -> the Python object a branch assigned (it cannot differ per lane)
         self.assigned: set = set()  # names the branch being traced assigned
         for name, old in zip(names, before):
             if _storable(old) and _usable(old):
-                self.keep(name, old, mark=False)
+                self.store(name, old, fresh_if_other_type=True)
 
-    def keep(self, name: str, value, mark: bool = True) -> None:
-        if mark:
-            self.assigned.add(name)
-        if isinstance(value, _Unset):
-            self.objects[name] = value
-            return
-        if not _storable(value):
-            self.objects[name] = value
-            return
-        if not _usable(value):  # a value of a block that ended inside the branch: not readable after it
-            self.objects[name] = value
-            return
-        slot = self.slots.get(name)
+    def store(self, name: str, value, fresh_if_other_type: bool = False) -> None:
+        key = (self.owner, name)
+        slot = self.shared.get(key)
+        if slot is not None and fresh_if_other_type and not _same_type(slot, value):
+            slot = None  # the name was rebound to another type since: a variable of its own from here
         if slot is None:
-            slot = self.slots[name] = _slot_for(name, value)
+            slot = self.shared[key] = _slot_for(name, value)
+        self.slots[name] = slot
         try:
             slot.set(value)
         except (DSLTypeError, TypeError) as exc:
-            raise DSLTypeError(f"'{name}' is given values of different types under a run-time 'if' ({exc})") from None
+            raise DSLTypeError(f"'{name}' is given values of different types under run-time control flow "
+                               f"({exc})") from None
+
+    def keep(self, name: str, value) -> None:
+        self.assigned.add(name)
+        if isinstance(value, _Unset) or not _storable(value) or not _usable(value):
+            self.objects[name] = value  # not storable, or a value of a block that ended in the branch
+            return
+        self.objects.pop(name, None)
+        self.store(name, value)
 
 
-def _if_stmt(cond, names, before, then_fn, else_fn):
+def _same_type(slot, value) -> bool:
+    from .variables import per_lane
+    if _is_vector(value) or _is_vector(slot):
+        return type(slot).__mro__[2] is type(value) if _is_vector(slot) and _is_vector(value) else False
+    if isinstance(value, Value):
+        return per_lane(value.vtype) == slot.vtype
+    kind = "Bool" if isinstance(value, bool) else "Float" if isinstance(value, float) else "Int"
+    return slot.vtype.kind.name == kind
+
+
+def _if_stmt(owner, cond, names, before, then_fn, else_fn):
     """Trace both branches of a run-time ``if``; each name then holds, per lane, what that lane's
     branch left in it."""
-    state = _State(names, before)
+    state = _State(owner, names, before)
     unset: set = set()
     for which, fn in (("then", then_fn), ("else", else_fn)):
         block = flow.if_begin(cond) if which == "then" else flow.else_begin()
@@ -513,12 +533,12 @@ def _if_stmt(cond, names, before, then_fn, else_fn):
     return tuple(out)
 
 
-def _loop(names, before, begin, body_fn):
+def _loop(owner, names, before, begin, body_fn):
     """A run-time loop: the names its body assigns live in variables declared before it (those
     with a value there), read at the top of each iteration and stored where they are assigned,
     per lane; after the loop each holds its last value (a name first assigned in the body has
     none: the loop may not have run)."""
-    state = _State(names, before)
+    state = _State(owner, names, before)
 
     def values():
         return [state.slots[n].value if n in state.slots else old for n, old in zip(names, before)]
