@@ -44,7 +44,8 @@ def inline(fn: F) -> F:
                                f"(from a kernel or a Function), not directly")
         em = _em.current()
         lanes = lanes_of(em)
-        frame = CallFrame(depth=len(lanes.frames), exit_block=em.new_block(f"{fn.__name__}.return"))
+        frame = CallFrame(depth=len(lanes.frames), exit_block=em.new_block(f"{fn.__name__}.return"),
+                          code=getattr(fn, "__code__", None))
         lanes.calls.append(frame)
         try:
             result = fn(*args, **kwargs)

@@ -51,6 +51,7 @@ class CallFrame:
     returned: typing.Any = None  # Variable of Bool: lanes that returned from the helper
     results: typing.Any = None  # Variables: one per component of its result
     any_return: bool = False  # a Return was traced (per lane or on a uniform path)
+    code: typing.Any = None  # the helper's code object (@syntax's returns find their function by it)
 
 
 @dataclasses.dataclass

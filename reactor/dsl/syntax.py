@@ -45,6 +45,7 @@ import typing
 
 from ..errors import ControlFlowError, DSLTypeError
 from . import flow
+from .control import Return
 from .values import Value
 
 RUNTIME_BLOCKS = ("If", "Elif", "Else", "For", "While")
@@ -79,7 +80,12 @@ def syntax(fn):
     functools.update_wrapper(rewritten, fn)
     del rewritten.__wrapped__  # its own code is what runs (and what errors point into)
     rewritten.__reactor_syntax__ = True
+    _OWNERS[f"{code.co_filename}:{tree.lineno}:{tree.name}"] = rewritten.__code__
     return rewritten
+
+
+#: a rewritten function's name in the code it calls -> its code object (where a return returns from)
+_OWNERS: dict[str, typing.Any] = {}
 
 
 def _fresh_tree(code) -> ast.FunctionDef | None:
@@ -248,7 +254,8 @@ class _Rewriter:
     def leave(self, stmt, region) -> list:
         """``return`` at run time: the core's Return (for the lanes that reach it); in a branch or
         loop body, it ends there."""
-        out: list[ast.stmt] = [ast.Expr(_call("return_value", stmt.value or ast.Constant(None)))]
+        out: list[ast.stmt] = [ast.Expr(_call("return_value", ast.Constant(self.owner),
+                                               stmt.value or ast.Constant(None)))]
         if region is not None:
             out.append(ast.Return(ast.Attribute(ast.Name("__rt", ast.Load()), "RETURNED", ast.Load())))
         return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
@@ -400,7 +407,22 @@ class _Runtime:
     def keep(state, name: str, value) -> None:
         state.keep(name, value)
 
-    return_value = staticmethod(flow.return_value)
+    @staticmethod
+    def return_value(owner: str, value) -> None:
+        """``return value`` under run-time control flow: from the body being built, or from the
+        ``@inline`` helper being traced; a plain helper's cannot be honoured per lane."""
+        from .context import body_of
+        from .lanes import lanes_of
+        code, lanes, body = _OWNERS.get(owner), lanes_of(), body_of()
+        if lanes.calls and lanes.calls[-1].code is code:
+            Return(value)  # returns from the @inline helper (for the lanes that reach it)
+        elif not lanes.calls and body is not None and body.code is code:
+            Return(value, body=True)
+        else:
+            name = owner.rsplit(":", 1)[-1]
+            raise ControlFlowError(f"'return' under a run-time condition in '{name}', a helper called from the body, "
+                                   f"would return from the body: decorate '{name}' with @reactor.inline (over "
+                                   f"@reactor.syntax) so that it returns from '{name}', per lane")
     loop_break = staticmethod(flow.loop_break)
     loop_continue = staticmethod(flow.loop_continue)
 

@@ -250,3 +250,40 @@ def test_a_run_time_loops_counter_has_no_value_after_it():
 
     with pytest.raises(DSLTypeError, match="'i' is the counter of a run-time loop"):
         _build(counter)
+
+
+@reactor.inline
+@syntax
+def _soft_sign(v):
+    if v < 0.0:
+        return v * 0.5              # returns from the helper, per lane
+    return v * 2.0
+
+
+@kernel
+@syntax
+def uses_inline_helper(x: Float) -> Float:
+    y = _soft_sign(x)
+    if y > 3.0:
+        return y - 100.0
+    return y + 1.0
+
+
+def test_an_inline_helpers_return_returns_from_the_helper():
+    y = np.where(X < 0, X * np.float32(0.5), X * np.float32(2))
+    assert np.array_equal(uses_inline_helper(X), np.where(y > 3, y - 100, y + 1).astype(np.float32))
+
+
+@syntax
+def _plain_helper(v):
+    if v < 0.0:
+        return v * 0.5
+    return v
+
+
+def test_a_plain_helpers_run_time_return_is_refused():
+    def calls_plain(x: Float) -> Float:
+        return _plain_helper(x) + 1.0
+
+    with pytest.raises(ControlFlowError, match="decorate '_plain_helper' with @reactor.inline"):
+        kernel(calls_plain, name="calls_plain")
