@@ -31,9 +31,10 @@ def library_dirs() -> tuple[str, ...]:
 _CONTEXTLIB = os.path.abspath(contextlib.__file__)  # the library's ``with`` helpers run there
 
 
-def user_frame() -> types.FrameType | None:
-    """The innermost frame outside the library (the user's code)."""
-    frame: types.FrameType | None = sys._getframe(1)
+def user_frame(start: types.FrameType | None = None) -> types.FrameType | None:
+    """The innermost frame outside the library (the user's code), from ``start`` outwards
+    (default: the caller's)."""
+    frame: types.FrameType | None = start if start is not None else sys._getframe(1)
     dirs = tuple(_LIBRARY_DIRS)
     while frame is not None:
         name = frame.f_code.co_filename

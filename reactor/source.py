@@ -12,6 +12,11 @@ import ast
 import functools
 import inspect
 import textwrap
+import threading
+
+#: CPython's conversions between source, syntax trees and code keep a recursion count that is not
+#: safe across threads (3.11: "AST constructor recursion depth mismatch"): one at a time
+AST_LOCK = threading.Lock()
 
 #: The context managers whose bodies run at run time, per lane or per iteration.
 RUNTIME_BLOCKS = frozenset({"If", "Elif", "Else", "For", "While"})
@@ -24,7 +29,8 @@ def body_tree(code) -> tuple[ast.FunctionDef | ast.AsyncFunctionDef, int] | None
         return None
     try:
         lines, start = inspect.getsourcelines(code)
-        tree = ast.parse(textwrap.dedent("".join(lines)))
+        with AST_LOCK:
+            tree = ast.parse(textwrap.dedent("".join(lines)))
     except (OSError, TypeError, SyntaxError, IndentationError):
         return None
     fn = tree.body[0] if tree.body else None

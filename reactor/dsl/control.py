@@ -560,6 +560,8 @@ def _check_not_in_helper(body) -> None:
     """Refuse ``Return`` in a plain Python helper: it would return from the whole body."""
     fn = body.function
     frame = user_frame()
+    while frame is not None and frame.f_code.co_name.startswith("__rx_"):
+        frame = user_frame(frame.f_back)  # a branch or loop body of a rewritten body: the body itself
     if body.code is None or frame is None or frame.f_code is body.code:
         return
     raise ControlFlowError(

@@ -18,6 +18,7 @@ from ..ir.types import PointerType, VType
 from .signature import Signature
 from .values import Value, to_ir, value_class
 from .context import begin, check_entered
+from .syntax import as_written
 from .variables import PointerValue
 
 
@@ -54,11 +55,12 @@ class FunctionDef:
             raise DSLTypeError(f"a function returns one value type, not {returns!r}")
         em = _em.FunctionEmitter(module, module.unique_name(self.name), returns, params,
                                  list(self.signature.names), width=width)
-        body = begin(em, Built(self.name, returns, params), self.body)
+        written = as_written(self.body)  # Python's if/while/for on DSL values run at run time
+        body = begin(em, Built(self.name, returns, params), written)
         module.functions[key] = em.function
         with em:
             from .control import check_python_returns, return_value
-            check_python_returns(self.body)
+            check_python_returns(written)
             names = list(self.signature.names)
 
             def length_of(p):  # a pointer's declared length: (type, IR value), converted where used
@@ -71,7 +73,7 @@ class FunctionDef:
                 return None
             args = [PointerValue(p, a, em, length_of(p)) if isinstance(p, PointerType)
                     else value_class(p)._wrap(a, em) for p, a in zip(params, em.params)]
-            result = self.body(*args)
+            result = written(*args)
             if result is not None and not em.terminated():
                 with at_return_of(self.body):
                     body.after_return = return_location(self.body)

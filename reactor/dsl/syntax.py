@@ -1,9 +1,10 @@
 """Python as it is written: ``if``/``elif``/``else``, ``while`` and ``for i in range(...)`` on
 per-lane values.
 
-``@reactor.syntax`` rewrites a body's ``if``, ``while`` and ``for ... in range(...)`` statements
-once, when it is decorated (the abstract syntax tree of its source, line numbers kept): each
-decides when it runs whether it is Python's or the kernel's. A condition that is a Python
+``@reactor.syntax`` rewrites a function's ``if``, ``while`` and ``for ... in range(...)``
+statements once (the abstract syntax tree of its source, line numbers kept); every kernel and
+Function body is rewritten so when it is first traced (:func:`as_written`), a helper when it is
+decorated. Each statement decides when it runs whether it is Python's or the kernel's. A condition that is a Python
 value (a bool, a number, a build setting) is Python's: one branch is traced, as before. A condition that is a DSL
 ``Bool`` (a scalar: a branch; a mask: per lane) is the kernel's: both branches are traced
 through the control-flow core (``reactor.dsl.flow``), and every name either branch assigns
@@ -11,7 +12,6 @@ becomes a variable of the function (stored where the branch runs, per lane under
 after the ``if`` a name holds, in each lane, what that lane's branch gave it::
 
     @reactor.kernel
-    @reactor.syntax
     def shade(x: Float) -> Float:
         if x < 0.0:
             r = 2.0          # a Python number: a Float in the lanes that take this branch
@@ -42,8 +42,10 @@ import linecache
 import numbers
 import textwrap
 import typing
+import weakref
 
 from ..errors import ControlFlowError, DSLTypeError
+from ..source import AST_LOCK
 from . import flow
 from .control import Return
 from .values import Value
@@ -61,7 +63,7 @@ def syntax(fn):
     if tree is None:
         raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
     kinds = {type(n) for n in ast.walk(tree)}
-    if not kinds & {ast.If, ast.While, ast.For, ast.Return}:
+    if not kinds & {ast.If, ast.While, ast.For} and not _returns_in_with(tree):
         return fn  # nothing to rewrite
     if kinds & {ast.Global, ast.Nonlocal}:
         raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
@@ -72,8 +74,9 @@ def syntax(fn):
     for node in [factory, factory.body[1], factory.body[1].value] + factory.args.args:  # the only new nodes here
         ast.copy_location(node, tree)
     namespace: dict = {}
-    exec(compile(ast.Module(body=[factory], type_ignores=[]), code.co_filename, "exec"),  # noqa: S102 - the user's
-         fn.__globals__, namespace)                                                         # own code, rewritten
+    with AST_LOCK:
+        compiled = compile(ast.Module(body=[factory], type_ignores=[]), code.co_filename, "exec")
+    exec(compiled, fn.__globals__, namespace)  # noqa: S102 - the user's own code, rewritten
     cells = [c.cell_contents for c in (fn.__closure__ or ())]
     rewritten = namespace["__reactor_make"](_Runtime, *cells)
     rewritten.__defaults__, rewritten.__kwdefaults__ = fn.__defaults__, fn.__kwdefaults__
@@ -86,6 +89,31 @@ def syntax(fn):
 
 #: a rewritten function's name in the code it calls -> its code object (where a return returns from)
 _OWNERS: dict[str, typing.Any] = {}
+
+
+_WRITTEN: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def as_written(body):
+    """What kernels and Functions trace: ``body`` with its Python control flow rewritten (as
+    ``@syntax`` does) where it has any, else ``body`` itself; a body that cannot be rewritten (no
+    source, ``global``/``nonlocal``, a closure cell not yet filled) is traced as it is, where
+    Python's truth of a DSL value is the error it always was. Rewritten once per function object."""
+    if getattr(body, "__reactor_syntax__", False) or getattr(body, "__code__", None) is None:
+        return body
+    try:
+        return _WRITTEN[body]
+    except (KeyError, TypeError):
+        pass
+    try:
+        written = syntax(body)
+    except (DSLTypeError, ValueError):  # ValueError: an empty closure cell
+        written = body
+    try:
+        _WRITTEN[body] = written
+    except TypeError:  # not weakly referenceable
+        pass
+    return written
 
 
 def _fresh_tree(code) -> ast.FunctionDef | None:
@@ -114,11 +142,18 @@ def _fresh_tree(code) -> ast.FunctionDef | None:
 
 def _parse_def(lines: list[str], start: int) -> ast.FunctionDef | None:
     try:
-        tree = ast.parse("\n" * (start - 1) + textwrap.dedent("".join(lines)))
+        with AST_LOCK:
+            tree = ast.parse("\n" * (start - 1) + textwrap.dedent("".join(lines)))
     except (SyntaxError, IndentationError, ValueError):
         return None
     fn = tree.body[0] if len(tree.body) == 1 else None
     return fn if isinstance(fn, ast.FunctionDef) else None
+
+
+def _returns_in_with(tree) -> bool:
+    """Whether a ``return`` stands inside a run-time ``with`` block (If, For ...) of ``tree``."""
+    return any(isinstance(n, ast.Return) for w in ast.walk(tree) if isinstance(w, ast.With) and _with_block(w)
+               for n in ast.walk(w))
 
 
 def _own_nodes(node):

@@ -207,7 +207,8 @@ def test_control_flow_misuse():
     check(e, ControlFlowError, "E-mask", "per-lane condition of 4 lanes", "Variable(Float4")
 
     def truthiness(x: Float) -> Float:
-        if x > 0.0:  # E-truth
+        # Python's 'and' asks for the truth of a mask
+        if x > 0.0 and x < 1.0:  # E-truth
             return x
         return -x
 

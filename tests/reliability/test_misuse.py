@@ -147,12 +147,10 @@ def m_variable_of_number():
     Function(f).compile()
 
 
-@case("a value as a Python count (range(x))", DSLTypeError, "cannot index a Python list or tuple, or count a range")
-def m_value_as_count():
-    def f(i: Int) -> Int:
-        for _ in range(i):  # m_value_as_count
-            pass
-        return i
+@case("a value as a Python list index", DSLTypeError, "cannot index a Python list or tuple, or count a range")
+def m_value_as_index():
+    def f(i: Int) -> Float:
+        return [1.0, 2.0][i]  # m_value_as_index
     Function(f).compile()
 
 
@@ -275,12 +273,22 @@ def m_uniform_under_mask():
     Function(f).compile()
 
 
-@case("Python 'if' on a DSL value", DSLTypeError, "no Python truth value", "If(...)/While(...)")
-def m_python_if():
+@case("Python 'and' on DSL values", DSLTypeError, "no Python truth value", "If(...)/While(...)")
+def m_python_and():
     def f(x: Float) -> Float:
-        if x > 0.0:  # m_python_if
+        if x > 0.0 and x < 1.0:  # m_python_and
             return x
         return -x
+    Function(f).compile()
+
+
+@case("a name set on one path of a run-time 'if', read after it", DSLTypeError,
+      "'y' is assigned on some paths of a run-time 'if' only")
+def m_one_path():
+    def f(x: Float) -> Float:
+        if x > 0.0:
+            y = x
+        return y  # m_one_path
     Function(f).compile()
 
 
@@ -349,12 +357,17 @@ def m_missing_return():
     Function(f).compile()
 
 
-@case("Python return inside a run-time block", ControlFlowError, "inside a 'If' block", "Return(value)")
-def m_python_return_in_block():
+def _helper_returning(x):
+    if x > 0.0:
+        return x * 2.0  # m_helper_return
+    return x
+
+
+@case("a run-time return in a plain helper", ControlFlowError, "a helper called from the body",
+      "@reactor.inline")
+def m_helper_return():
     def f(x: Float) -> Float:
-        with If(x > 0.0):
-            return x * 2.0  # m_python_return_in_block
-        return x
+        return reactor.syntax(_helper_returning)(x)
     Function(f).compile()
 
 
