@@ -541,6 +541,17 @@ class _State:
             raise DSLTypeError(f"'{name}' is given values of different types under run-time control flow "
                                f"({exc})") from None
 
+    def refused(self, name: str, where: str):
+        """What ``name`` holds after the construct if a branch left it unusable (an ``_Unset``
+        saying why), else None."""
+        if name not in self.objects:
+            return None
+        obj = self.objects[name]
+        if isinstance(obj, _Unset):
+            return obj
+        return _Unset(name, f"was assigned a {type(obj).__name__} {where} (only numbers and DSL values can "
+                            f"differ per lane)")
+
     def keep(self, name: str, value) -> None:
         self.assigned.add(name)
         if isinstance(value, _Unset) or not _storable(value) or not _usable(value):
@@ -576,11 +587,9 @@ def _if_stmt(owner, cond, names, before, then_fn, else_fn):
         flow.end(block)
     out = []
     for name, old in zip(names, before):
-        if isinstance(state.objects.get(name), _Unset):
-            out.append(state.objects[name])
-        elif name in state.objects:
-            out.append(_Unset(name, f"was assigned a {type(state.objects[name]).__name__} under a run-time "
-                                    f"condition (only numbers and DSL values can differ per lane)"))
+        refused = state.refused(name, "under a run-time condition")
+        if refused is not None:
+            out.append(refused)
         elif name in unset:
             out.append(_Unset(name))
         elif name in state.slots:
@@ -605,11 +614,9 @@ def _loop(owner, names, before, begin, body_fn):
     flow.end(block)
     out = []
     for name, old in zip(names, before):
-        if isinstance(state.objects.get(name), _Unset):
-            out.append(state.objects[name])
-        elif name in state.objects:
-            out.append(_Unset(name, f"was assigned a {type(state.objects[name]).__name__} in a run-time loop "
-                                    f"(only numbers and DSL values can differ per lane)"))
+        refused = state.refused(name, "in a run-time loop")
+        if refused is not None:
+            out.append(refused)
         elif name in state.slots and (_storable(old) and _usable(old)):
             out.append(state.slots[name].value)
         elif name in state.slots or isinstance(old, _Unset):
