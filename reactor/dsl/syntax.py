@@ -1,5 +1,5 @@
-"""Python as it is written: ``if``/``elif``/``else``, ``while`` and ``for i in range(...)`` on
-per-lane values.
+"""Python as it is written: ``if``/``elif``/``else``, ``while``, ``for i in range(...)``, ``and``,
+``or``, ``not``, conditional expressions and chained comparisons on per-lane values.
 
 ``@reactor.syntax`` rewrites a function's ``if``, ``while`` and ``for ... in range(...)``
 statements once (the abstract syntax tree of its source, line numbers kept); every kernel and
@@ -63,11 +63,13 @@ def syntax(fn):
     if tree is None:
         raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
     kinds = {type(n) for n in ast.walk(tree)}
-    if not kinds & {ast.If, ast.While, ast.For} and not _returns_in_with(tree):
+    if not kinds & {ast.If, ast.While, ast.For, ast.IfExp, ast.BoolOp} and not _not_or_chain(tree) \
+            and not _returns_in_with(tree):
         return fn  # nothing to rewrite
     if kinds & {ast.Global, ast.Nonlocal}:
         raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
                            f"return them instead")
+    tree.body = [_Expressions().visit(stmt) for stmt in tree.body]
     new = _Rewriter(f"{code.co_filename}:{tree.lineno}:{tree.name}").function(tree)
     factory = _def("__reactor_make", ["__rt"] + list(code.co_freevars),
                    [new, ast.Return(ast.Name(tree.name, ast.Load()))])
@@ -148,6 +150,55 @@ def _parse_def(lines: list[str], start: int) -> ast.FunctionDef | None:
         return None
     fn = tree.body[0] if len(tree.body) == 1 else None
     return fn if isinstance(fn, ast.FunctionDef) else None
+
+
+def _not_or_chain(tree) -> bool:
+    """Whether ``tree`` has a ``not`` or a chained comparison (``a < b < c``)."""
+    return any(isinstance(n, ast.UnaryOp) and isinstance(n.op, ast.Not) or isinstance(n, ast.Compare)
+               and len(n.ops) > 1 for n in ast.walk(tree))
+
+
+class _Expressions(ast.NodeTransformer):
+    """Python's expressions that ask for a truth value, made to work on masks too: ``a and b``,
+    ``a or b``, ``not a``, ``x if c else y`` and ``a < b < c`` become calls that keep Python's
+    meaning (and its short circuit) for Python values and work per lane on DSL Bools (``&``, ``|``,
+    ``~``, ``Select``; both arms then computed, as ``Select`` computes them)."""
+
+    def visit_FunctionDef(self, node):
+        return node  # another scope
+
+    visit_AsyncFunctionDef = visit_ClassDef = visit_Lambda = visit_FunctionDef
+
+    @staticmethod
+    def _thunk(expr) -> ast.Lambda:
+        return ast.Lambda(ast.arguments(posonlyargs=[], args=[], kwonlyargs=[], kw_defaults=[], defaults=[]), expr)
+
+    def visit_BoolOp(self, node):
+        self.generic_visit(node)
+        what = "bool_and" if isinstance(node.op, ast.And) else "bool_or"
+        call = _call(what, node.values[0], *[self._thunk(v) for v in node.values[1:]])
+        return ast.fix_missing_locations(ast.copy_location(call, node))
+
+    def visit_UnaryOp(self, node):
+        self.generic_visit(node)
+        if not isinstance(node.op, ast.Not):
+            return node
+        return ast.fix_missing_locations(ast.copy_location(_call("bool_not", node.operand), node))
+
+    def visit_IfExp(self, node):
+        self.generic_visit(node)
+        call = _call("choose", node.test, self._thunk(node.body), self._thunk(node.orelse))
+        return ast.fix_missing_locations(ast.copy_location(call, node))
+
+    def visit_Compare(self, node):
+        self.generic_visit(node)
+        if len(node.ops) == 1:
+            return node
+        operands = [node.left] + node.comparators
+        pairs = [ast.Compare(copy.deepcopy(operands[k]), [op], [copy.deepcopy(operands[k + 1])])
+                 for k, op in enumerate(node.ops)]
+        call = _call("bool_and", pairs[0], *[self._thunk(pair) for pair in pairs[1:]])
+        return ast.fix_missing_locations(ast.copy_location(call, node))
 
 
 def _returns_in_with(tree) -> bool:
@@ -460,6 +511,55 @@ class _Runtime:
                                    f"@reactor.syntax) so that it returns from '{name}', per lane")
     loop_break = staticmethod(flow.loop_break)
     loop_continue = staticmethod(flow.loop_continue)
+
+    @staticmethod
+    def bool_and(first, *rest):
+        """``first and rest...``: Python's for Python values (short circuit), ``&`` per lane."""
+        value = first
+        for thunk in rest:
+            if not isinstance(value, Value):
+                if not value:
+                    return value
+                value = thunk()
+            else:
+                value = value & _Runtime._mask_like(value, thunk())
+        return value
+
+    @staticmethod
+    def bool_or(first, *rest):
+        """``first or rest...``: Python's for Python values (short circuit), ``|`` per lane."""
+        value = first
+        for thunk in rest:
+            if not isinstance(value, Value):
+                if value:
+                    return value
+                value = thunk()
+            else:
+                value = value | _Runtime._mask_like(value, thunk())
+        return value
+
+    @staticmethod
+    def _mask_like(mask, other):
+        """``other`` as a Bool to combine with the mask ``mask`` (a Python bool: all lanes or none)."""
+        if isinstance(other, Value):
+            return other
+        if isinstance(other, _Unset):
+            other._refuse()
+        return mask | True if other else mask & False
+
+    @staticmethod
+    def bool_not(value):
+        if isinstance(value, _Unset):
+            value._refuse()
+        return ~value if isinstance(value, Value) else not value
+
+    @staticmethod
+    def choose(cond, then_thunk, else_thunk):
+        """``then if cond else other``: one arm for a Python condition, per lane on a mask."""
+        if not isinstance(cond, Value):
+            return then_thunk() if cond else else_thunk()
+        from .intrinsics import Select
+        return Select(cond, then_thunk(), else_thunk())
 
     @staticmethod
     def counter_after_loop(name: str):

@@ -151,3 +151,160 @@ def test_every_body_is_traced_as_written():
         return -x
 
     assert np.array_equal(kernel(plain, name="plain")(X), np.abs(X))
+
+
+@kernel
+@syntax
+def halvings(x: Float) -> Float:
+    v = x
+    n = 0.0
+    while v > 1.0:                   # a run-time loop, per lane
+        v = v * 0.5
+        n += 1.0
+        if n > 3.0:
+            break                    # per lane
+        if v < 1.5:
+            continue
+        v = v - 0.125
+    return v + n * 100.0
+
+
+def test_a_while_loop_with_break_and_continue_per_lane():
+    v = np.abs(X) * 3
+    want = []
+    for x0 in v:
+        w, n = np.float32(x0), np.float32(0)
+        while w > 1:
+            w, n = w * np.float32(0.5), n + 1
+            if n > 3:
+                break
+            if w < 1.5:
+                continue
+            w = w - np.float32(0.125)
+        want.append(w + n * np.float32(100))
+    assert np.array_equal(halvings(v), np.array(want, np.float32))
+
+
+@kernel
+@syntax
+def sum_to(x: Float, k: Int) -> Float:
+    total = 0.0
+    for i in range(k):               # a per-lane bound: a run-time For
+        if i == 5:
+            continue
+        total += x * Float(i)
+    for j in range(3):               # Python ints: unrolled while building
+        total = total + 1.0
+    return total
+
+
+def test_for_range_with_a_per_lane_bound():
+    k = (np.arange(X.size) % 9).astype(np.int32)
+    want = np.array([x * sum(i for i in range(n) if i != 5) + 3 for x, n in zip(X, k)], np.float32)
+    assert np.allclose(sum_to(X, k), want, rtol=1e-6, atol=1e-5)
+
+
+@kernel
+@syntax
+def first_above(x: Float) -> Float:
+    v = x
+    while v < 100.0:
+        v = v * 2.0 + 1.0
+        if v > 50.0:
+            return -v                # per lane, from inside the loop
+    return v
+
+
+def test_a_return_inside_a_run_time_loop():
+    want = []
+    for x0 in np.abs(X):
+        v = np.float32(x0)
+        out = None
+        while v < 100:
+            v = v * np.float32(2) + np.float32(1)
+            if v > 50:
+                out = -v
+                break
+        want.append(v if out is None else out)
+    assert np.array_equal(first_above(np.abs(X)), np.array(want, np.float32))
+
+
+def test_a_name_first_assigned_in_a_run_time_loop_is_an_error_after_it():
+    def late(x: Float) -> Float:
+        v = x
+        while v < 10.0:
+            step = v * 0.5
+            v = v + step + 1.0
+        return step
+
+    with pytest.raises(DSLTypeError, match="'step' is first assigned in a run-time loop"):
+        _build(late)
+
+
+def test_a_run_time_loops_counter_has_no_value_after_it():
+    def counter(x: Float, k: Int) -> Float:
+        i = 0
+        for i in range(k):
+            x = x + 1.0
+        return x * Float(i)
+
+    with pytest.raises(DSLTypeError, match="'i' is the counter of a run-time loop"):
+        _build(counter)
+
+
+@reactor.inline
+@syntax
+def _soft_sign(v):
+    if v < 0.0:
+        return v * 0.5              # returns from the helper, per lane
+    return v * 2.0
+
+
+@kernel
+@syntax
+def uses_inline_helper(x: Float) -> Float:
+    y = _soft_sign(x)
+    if y > 3.0:
+        return y - 100.0
+    return y + 1.0
+
+
+def test_an_inline_helpers_return_returns_from_the_helper():
+    y = np.where(X < 0, X * np.float32(0.5), X * np.float32(2))
+    assert np.array_equal(uses_inline_helper(X), np.where(y > 3, y - 100, y + 1).astype(np.float32))
+
+
+@syntax
+def _plain_helper(v):
+    if v < 0.0:
+        return v * 0.5
+    return v
+
+
+def test_a_plain_helpers_run_time_return_is_refused():
+    def calls_plain(x: Float) -> Float:
+        return _plain_helper(x) + 1.0
+
+    with pytest.raises(ControlFlowError, match="decorate '_plain_helper' with @reactor.inline"):
+        kernel(calls_plain, name="calls_plain")
+
+
+
+@kernel
+def logic(x: Float, y: Float) -> Float:
+    inside = x > -1.0 and x < 1.0            # a mask: both sides, per lane
+    r = 2.0 if inside else -2.0              # per lane
+    if not inside or y > 2.0:
+        r = r * 10.0
+    if -0.5 < y < 0.5:                       # a chained comparison, per lane
+        r = r + 1000.0
+    return r + (1.0 if WIDE and True else 0.0)   # Python values: Python's meaning
+
+
+def test_and_or_not_conditional_expressions_and_chains_per_lane():
+    y = X[::-1].copy()
+    inside = (X > -1) & (X < 1)
+    r = np.where(inside, 2.0, -2.0)
+    r = np.where(~inside | (y > 2), r * 10, r)
+    r = np.where((y > -0.5) & (y < 0.5), r + 1000, r) + 1
+    assert np.array_equal(logic(X, y), r.astype(np.float32))

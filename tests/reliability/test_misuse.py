@@ -273,12 +273,10 @@ def m_uniform_under_mask():
     Function(f).compile()
 
 
-@case("Python 'and' on DSL values", DSLTypeError, "no Python truth value", "If(...)/While(...)")
-def m_python_and():
+@case("Python's max on DSL values", DSLTypeError, "no Python truth value", "reactor.Max")
+def m_python_max():
     def f(x: Float) -> Float:
-        if x > 0.0 and x < 1.0:  # m_python_and
-            return x
-        return -x
+        return max(x, 1.0)  # m_python_max
     Function(f).compile()
 
 
