@@ -1,7 +1,8 @@
-"""Differential testing of @reactor.syntax: random bodies with nested plain control flow (if/elif/
-else on per-lane conditions, while and for-range loops with break and continue, early returns,
-names assigned on some paths), each built as a kernel and compared lane by lane with the same
-source run as plain Python on float32 scalars, element by element (Python's own semantics)."""
+"""Differential testing of plain Python control flow in kernels: random bodies with nested if/elif/
+else on per-lane conditions (and, or, not, chained comparisons), conditional expressions, while and
+for-range loops with break and continue, early returns, names assigned on some paths, each built
+as a kernel and compared lane by lane with the same source run as plain Python on float32 scalars,
+element by element (Python's own semantics)."""
 from __future__ import annotations
 
 import importlib.util
@@ -28,10 +29,19 @@ class Program:
         r = self.rng.random()
         if depth > 1 or r < 0.35:
             return self.rng.choice(["x", "y", "a", "b", "c", f"{self.rng.choice([0.5, 1.5, 2.0, -0.75])}"])
+        if depth == 0 and r < 0.45:
+            return f"({self.expr(1)} if {self.cond(1)} else {self.expr(1)})"
         op = self.rng.choice(["+", "-", "*"])
         return f"({self.expr(depth + 1)} {op} {self.expr(depth + 1)})"
 
-    def cond(self) -> str:
+    def cond(self, depth: int = 0) -> str:
+        r = self.rng.random()
+        if depth == 0 and r < 0.15:
+            return f"{self.cond(1)} {self.rng.choice(['and', 'or'])} {self.cond(1)}"
+        if depth == 0 and r < 0.22:
+            return f"not ({self.cond(1)})"
+        if depth == 0 and r < 0.28:
+            return f"{self.expr(2)} < {self.expr(2)} <= {self.expr(2)}"
         left, right = self.expr(1), self.expr(1)
         return f"{left} {self.rng.choice(['<', '>', '<=', '>='])} {right}"
 
