@@ -15,12 +15,15 @@ printing its code, the options that choose a build, and what makes a command lin
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import importlib.util
+import multiprocessing
 import os
 import signal
 import sys
 import sysconfig
+import threading
 from collections.abc import Callable, Sequence
 from typing import Any, NoReturn
 
@@ -174,6 +177,27 @@ def _say(line: str) -> None:
         print(line, file=sys.stderr, flush=True)
     except (OSError, ValueError):  # pragma: no cover - stderr closed too
         pass
+
+
+@contextlib.contextmanager
+def forked_pool(workers: int, initializer=None, initargs: tuple = ()):
+    """A multiprocessing Pool of forked workers (they inherit the parent's kernels), terminated
+    when the block ends. Ctrl-C is held back while the workers start and delivered inside the
+    block: one in the middle of ``Pool()`` would leave a started worker that nobody ends, holding
+    the command's output open."""
+    ctx = multiprocessing.get_context("fork")
+    held = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
+    old: set = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if held else set()
+    try:
+        pool = ctx.Pool(workers, initializer=initializer, initargs=initargs)
+    except BaseException:
+        if held:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        raise
+    with pool:
+        if held:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)  # a Ctrl-C held back is raised here
+        yield pool
 
 
 def _ignore_ctrl_c_in_forked_children() -> None:

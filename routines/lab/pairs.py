@@ -32,12 +32,13 @@ Strata run in forked worker processes (the kernel is inherited).
 from __future__ import annotations
 
 import contextlib
-import multiprocessing
 import sys
 import time
 
 import numpy as np
 from tqdm import tqdm
+
+from reactor.cli import forked_pool
 
 from .sweep import SweepResult, evaluate, sample_inputs
 
@@ -121,13 +122,12 @@ def stratified(ufunc, func: str, precision: str, *, seed: int = 0, workers: int 
         pool = contextlib.nullcontext()
         parts = on_cluster(scheduler, _remote_stratum, tasks, (ufunc, func, precision, seed))
     else:
-        pool = multiprocessing.get_context("fork").Pool(workers, initializer=_init,
-                                                        initargs=(ufunc, func, precision, seed))
-        parts = pool.imap_unordered(_stratum, tasks)
-    with pool, tqdm(total=len(tasks), unit="stratum", file=sys.stderr,
+        parts = ()  # the pool's, below
+        pool = forked_pool(workers, _init, (ufunc, func, precision, seed))
+    with pool as started, tqdm(total=len(tasks), unit="stratum", file=sys.stderr,
                     disable=None if progress else True,  # None: only on a terminal
                     desc=f"{func} {precision}") as bar:
-        for part in parts:
+        for part in parts if started is None else started.imap_unordered(_stratum, tasks):
             total.merge(part)
             bar.update(1)
     total.seconds = time.perf_counter() - t0

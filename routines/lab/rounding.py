@@ -22,6 +22,8 @@ import time
 import mpmath
 import numpy as np
 
+from reactor.cli import forked_pool
+
 from .measures import ulp32
 from .reference import reference
 
@@ -227,8 +229,7 @@ def sweep(ufunc, func: str, variant: str, *, start: int = 0, stop: int = 2 ** 32
     if func == "pow":
         total.merge(score(ufunc, func, variant, *pow_hard_cases()))
     workers = workers or multiprocessing.cpu_count()
-    ctx = multiprocessing.get_context("fork")
-    with ctx.Pool(workers, initializer=_init, initargs=(ufunc, func, variant)) as pool:
+    with forked_pool(workers, _init, (ufunc, func, variant)) as pool:
         for part in pool.imap_unordered(run, tasks):
             total.merge(part)
             if progress:

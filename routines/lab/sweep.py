@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import multiprocessing
 import pickle
 import sys
 import time
@@ -33,6 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from tqdm import tqdm
+
+from reactor.cli import forked_pool
 
 from . import measures as M
 from .reference import ARITY, BINARY, FUNCS, reference
@@ -730,13 +731,12 @@ def sweep(ufunc, func, precision, *, start=0, stop=2**32, chunk=2**22, workers=2
         parts = map(_run_task, tasks)
         pool = contextlib.nullcontext()
     else:  # fork: the kernel is inherited, never pickled
-        pool = multiprocessing.get_context("fork").Pool(
-            workers, initializer=_init_worker, initargs=(ufunc, func, precision))
-        parts = pool.imap_unordered(_run_task, tasks)
-    with pool, tqdm(total=stop - start, unit="in", unit_scale=True, file=sys.stderr,
+        parts = ()  # the pool's, below
+        pool = forked_pool(workers, _init_worker, (ufunc, func, precision))
+    with pool as started, tqdm(total=stop - start, unit="in", unit_scale=True, file=sys.stderr,
                     disable=None if progress else True,  # None: only on a terminal
                     desc=f"{func} {precision}") as bar:
-        for part in parts:
+        for part in parts if started is None else started.imap_unordered(_run_task, tasks):
             total.merge(part)
             bar.update(part.count)
     total.seconds = time.perf_counter() - t0

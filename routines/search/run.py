@@ -42,12 +42,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import multiprocessing
 import re
 import time
 from typing import Callable
 
 import numpy as np
+
+from reactor.cli import forked_pool
 
 from ..lab import evaluate, sample_inputs, tolerance, ulp16, ulp32
 from ..zoo.methods import Domain
@@ -189,7 +190,7 @@ def score_ranges(ufunc, func, precision, ranges, *, workers=1, keep_margin=None,
         for p in parts:
             total.merge(p)
     else:
-        with multiprocessing.get_context("fork").Pool(workers) as pool:
+        with forked_pool(workers) as pool:
             for p in pool.imap_unordered(_task, tasks):
                 total.merge(p)
     total.seconds = time.perf_counter() - t0
