@@ -18,9 +18,8 @@ from .dsl.intrinsics import (
     build_settings, fma_mode, precision, target_features,
 )
 from .dsl import flow  # the control-flow core as plain calls, for front ends
-from .dsl.syntax import syntax
+from .dsl.syntax import hint, inline, syntax
 from .dsl.calls import RoutineCall, routine_call, site_choice
-from .dsl.inline import inline
 from .dsl.signature import SIMD, Pointer
 from .dsl.textures import ConstantTable, Table, Texture2D, Texture3D
 from .dsl.values import Value, set_power, vector_type
@@ -84,7 +83,7 @@ __all__ = [
     # functions, kernels, threads
     "Function", "function", "Module", "CompiledModule", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
     "configure_threads", "thread_settings", "RoutineCall", "routine_call", "site_choice", "explain",
-    "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow", "syntax",
+    "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow", "hint", "syntax",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
     "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",

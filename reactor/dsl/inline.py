@@ -35,20 +35,23 @@ from .variables import per_lane
 F = typing.TypeVar("F", bound=typing.Callable[..., typing.Any])
 
 
-def inline(fn: F) -> F:
-    """Make ``fn`` a helper whose ``Return`` returns from it (see the module docstring)."""
+def inline(fn: F, prepare: typing.Callable | None = None) -> F:
+    """Make ``fn`` a helper whose ``Return`` returns from it (see the module docstring);
+    ``prepare(fn)``, called at each call, gives what is traced (``reactor.inline`` passes the
+    rewrite of Python's control flow, :func:`reactor.dsl.syntax.as_written`)."""
     @functools.wraps(fn)
     def call(*args, **kwargs):
         if not _em.building():
             raise DSLTypeError(f"@inline helper '{fn.__name__}' is called while building a body "
                                f"(from a kernel or a Function), not directly")
+        written = prepare(fn) if prepare is not None else fn
         em = _em.current()
         lanes = lanes_of(em)
         frame = CallFrame(depth=len(lanes.frames), exit_block=em.new_block(f"{fn.__name__}.return"),
-                          code=getattr(fn, "__code__", None))
+                          code=getattr(written, "__code__", None))
         lanes.calls.append(frame)
         try:
-            result = fn(*args, **kwargs)
+            result = written(*args, **kwargs)
             return _finish(em, frame, result, fn.__name__)
         finally:
             lanes.calls.remove(frame)

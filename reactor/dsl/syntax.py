@@ -34,7 +34,12 @@ condition out of a Python loop (which runs at build time).
 from __future__ import annotations
 
 import ast
+import builtins
 import copy
+import dis
+import os
+import sysconfig
+import types
 import functools
 import inspect
 import itertools
@@ -48,9 +53,11 @@ from ..errors import ControlFlowError, DSLTypeError
 from ..source import AST_LOCK
 from . import flow
 from .control import Return
+from .inline import inline as _inline
 from .values import Value
 
 RUNTIME_BLOCKS = ("If", "Elif", "Else", "For", "While")
+_BUILTIN_NAMES = frozenset(dir(builtins))  # calls left as they are (locals() must stay the caller's)
 
 
 def syntax(fn):
@@ -64,15 +71,17 @@ def syntax(fn):
         raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
     kinds = {type(n) for n in ast.walk(tree)}
     if not kinds & {ast.If, ast.While, ast.For, ast.IfExp, ast.BoolOp} and not _not_or_chain(tree) \
-            and not _returns_in_with(tree):
+            and not any(_with_kind(n) for n in ast.walk(tree)) and not _calls_helpers(tree):
         return fn  # nothing to rewrite
     if kinds & {ast.Global, ast.Nonlocal}:
         raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
                            f"return them instead")
     tree.body = [_Expressions().visit(stmt) for stmt in tree.body]
-    new = _Rewriter(f"{code.co_filename}:{tree.lineno}:{tree.name}").function(tree)
+    rewriter = _Rewriter(f"{code.co_filename}:{tree.lineno}:{tree.name}")
+    new = rewriter.function(tree)
+    new.name = "__rx_written"  # not the user's name: the body may call what that name holds (recursion)
     factory = _def("__reactor_make", ["__rt"] + list(code.co_freevars),
-                   [new, ast.Return(ast.Name(tree.name, ast.Load()))])
+                   [new, ast.Return(ast.Name(new.name, ast.Load()))])
     for node in [factory, factory.body[1], factory.body[1].value] + factory.args.args:  # the only new nodes here
         ast.copy_location(node, tree)
     namespace: dict = {}
@@ -81,10 +90,13 @@ def syntax(fn):
     exec(compiled, fn.__globals__, namespace)  # noqa: S102 - the user's own code, rewritten
     cells = [c.cell_contents for c in (fn.__closure__ or ())]
     rewritten = namespace["__reactor_make"](_Runtime, *cells)
+    rewritten.__code__ = rewritten.__code__.replace(co_name=code.co_name, **(
+        {"co_qualname": code.co_qualname} if hasattr(code, "co_qualname") else {}))  # tracebacks name the user's
     rewritten.__defaults__, rewritten.__kwdefaults__ = fn.__defaults__, fn.__kwdefaults__
     functools.update_wrapper(rewritten, fn)
     del rewritten.__wrapped__  # its own code is what runs (and what errors point into)
     rewritten.__reactor_syntax__ = True
+    rewritten.__reactor_returns__ = rewriter.returns_per_lane  # a return that may act per lane
     _OWNERS[f"{code.co_filename}:{tree.lineno}:{tree.name}"] = rewritten.__code__
     return rewritten
 
@@ -116,6 +128,38 @@ def as_written(body):
     except TypeError:  # not weakly referenceable
         pass
     return written
+
+
+_HELPERS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+#: the opcodes of code that may need the rewrite: a branch, a loop, ``not``, a call (of a helper that may)
+_MAY_BRANCH = frozenset(op for name, op in dis.opmap.items()
+                        if "JUMP" in name and "IF" in name or "CALL" in name or name in ("FOR_ITER", "UNARY_NOT"))
+_LIBRARY_DIRS = tuple(os.path.realpath(p) + os.sep for p in {
+    os.path.dirname(os.path.dirname(os.path.abspath(__file__))),  # reactor
+    os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "routines"),
+    *(sysconfig.get_paths()[k] for k in ("stdlib", "purelib", "platlib"))})
+
+
+def helper(fn):
+    """What a rewritten body calls for ``fn``: a plain function of the user's (not a library's)
+    whose code branches, rewritten as written and, if a ``return`` of it may act per lane, made
+    an inline helper (the return returns from it, per lane); anything else, ``fn`` itself."""
+    if type(fn) is not types.FunctionType or getattr(fn, "__reactor_inline__", None) is not None:
+        return fn
+    try:
+        return _HELPERS[fn]
+    except KeyError:
+        pass
+    code = fn.__code__
+    made = fn
+    if getattr(fn, "__reactor_syntax__", False) or (
+            not os.path.realpath(code.co_filename).startswith(_LIBRARY_DIRS) and fn.__name__ != "<lambda>"
+            and any(op in _MAY_BRANCH for op in code.co_code[::2])):
+        made = as_written(fn)
+        if getattr(made, "__reactor_returns__", False):
+            made = _inline(made)
+    _HELPERS[fn] = made
+    return made
 
 
 def _fresh_tree(code) -> ast.FunctionDef | None:
@@ -150,6 +194,12 @@ def _parse_def(lines: list[str], start: int) -> ast.FunctionDef | None:
         return None
     fn = tree.body[0] if len(tree.body) == 1 else None
     return fn if isinstance(fn, ast.FunctionDef) else None
+
+
+def _calls_helpers(tree) -> bool:
+    """Whether ``tree`` calls anything but a builtin (a helper that may need rewriting)."""
+    return any(isinstance(n, ast.Call) and not (isinstance(n.func, ast.Name) and n.func.id in _BUILTIN_NAMES)
+               for n in ast.walk(tree))
 
 
 def _not_or_chain(tree) -> bool:
@@ -190,6 +240,18 @@ class _Expressions(ast.NodeTransformer):
         call = _call("choose", node.test, self._thunk(node.body), self._thunk(node.orelse))
         return ast.fix_missing_locations(ast.copy_location(call, node))
 
+    def visit_Call(self, node):
+        """``f(...)`` -> ``__rt.call(f, ...)``: a helper of the user's is called as written too."""
+        self.generic_visit(node)
+        f = node.func
+        name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
+        if name in _BUILTIN_NAMES or name in RUNTIME_BLOCKS or isinstance(f, ast.Attribute) and \
+                isinstance(f.value, ast.Name) and f.value.id == "__rt":
+            return node
+        call = ast.Call(ast.Attribute(ast.Name("__rt", ast.Load()), "call", ast.Load()), [f] + node.args,
+                        node.keywords)
+        return ast.fix_missing_locations(ast.copy_location(call, node))
+
     def visit_Compare(self, node):
         self.generic_visit(node)
         if len(node.ops) == 1:
@@ -199,12 +261,6 @@ class _Expressions(ast.NodeTransformer):
                  for k, op in enumerate(node.ops)]
         call = _call("bool_and", pairs[0], *[self._thunk(pair) for pair in pairs[1:]])
         return ast.fix_missing_locations(ast.copy_location(call, node))
-
-
-def _returns_in_with(tree) -> bool:
-    """Whether a ``return`` stands inside a run-time ``with`` block (If, For ...) of ``tree``."""
-    return any(isinstance(n, ast.Return) for w in ast.walk(tree) if isinstance(w, ast.With) and _with_block(w)
-               for n in ast.walk(w))
 
 
 def _own_nodes(node):
@@ -228,14 +284,62 @@ def _assigned(statements) -> list[str]:
     return [n for n in names if not n.startswith("__rx")]
 
 
-def _with_block(node) -> bool:
-    """Whether a ``with`` statement opens a run-time block (If, For, ...)."""
-    for item in node.items:
-        f = item.context_expr.func if isinstance(item.context_expr, ast.Call) else None
-        name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
-        if name in RUNTIME_BLOCKS:
-            return True
-    return False
+def _with_kind(node) -> str | None:
+    """The run-time block a ``with`` statement of one item opens ("If", "For", ...), else None."""
+    if not isinstance(node, ast.With) or len(node.items) != 1:
+        return None
+    expr = node.items[0].context_expr
+    f = expr.func if isinstance(expr, ast.Call) else None
+    name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
+    return name if name in RUNTIME_BLOCKS else None
+
+
+def _with_groups(statements):
+    """``statements`` with each run-time ``with`` chain (``with If`` and the ``with Elif``/``with
+    Else`` right after it; a ``with For``/``While``) as one list."""
+    out: list = []
+    for stmt in statements:
+        kind = _with_kind(stmt)
+        if kind in ("Elif", "Else") and out and isinstance(out[-1], list) and out[-1][0][0] == "If" \
+                and out[-1][-1][0] != "Else":
+            out[-1].append((kind, stmt))
+        elif kind is not None:
+            out.append([(kind, stmt)])
+        else:
+            out.append(stmt)
+    return out
+
+
+class _Region(list):
+    """The names a run-time branch or loop body assigns, and where they are kept: ``state``, the
+    name of its state in the rewritten code; ``inline``: a ``with`` block's body, written in
+    place (a branch or loop body of the rewrite is a function of its own, left by ``return``)."""
+
+    def __init__(self, names, state: str = "__rx_st", inline: bool = False) -> None:
+        super().__init__(names)
+        self.state, self.inline = state, inline
+
+
+class _SlotLoads(ast.NodeTransformer):
+    """In the lambdas of a ``with`` block's call (``While(lambda: v < 1.0)``), each read of a name
+    the block assigns reads its variable where the lambda runs (the loop's head)."""
+
+    def __init__(self, names, state: str) -> None:
+        self.names, self.state, self.depth = set(names), state, 0
+
+    def visit_Lambda(self, node):
+        self.depth += 1
+        self.generic_visit(node)
+        self.depth -= 1
+        return node
+
+    def visit_Name(self, node):
+        if self.depth == 0 or node.id not in self.names or not isinstance(node.ctx, ast.Load):
+            return node
+        st = ast.Name(self.state, ast.Load())
+        load = ast.IfExp(_call("slotted", st, ast.Constant(node.id)),
+                         _call("slot_value", ast.Name(self.state, ast.Load()), ast.Constant(node.id)), node)
+        return ast.fix_missing_locations(ast.copy_location(load, node))
 
 
 def _def(name: str, params: list[str], body: list) -> ast.FunctionDef:
@@ -247,6 +351,11 @@ def _def(name: str, params: list[str], body: list) -> ast.FunctionDef:
     if "type_params" in ast.FunctionDef._fields:
         fields["type_params"] = []
     return ast.FunctionDef(**fields)
+
+
+def _located(node, where):
+    """``node`` (new) given ``where``'s source location."""
+    return ast.fix_missing_locations(ast.copy_location(node, where))
 
 
 def _call(name: str, *args) -> ast.Call:
@@ -268,8 +377,10 @@ class _Rewriter:
     def __init__(self, owner: str) -> None:
         self.count = itertools.count()  # numbers the rewritten statements' names
         self.owner = owner  # names this function's variables apart from another's (a helper's)
+        self.returns_per_lane = False  # whether a return stands under run-time control flow
 
     def function(self, tree):
+        self.loads = _loads(tree.body)
         new = _def(tree.name, [], self.block(tree.body, None, None, False))
         new.args, new.returns = tree.args, tree.returns
         return ast.copy_location(new, tree)
@@ -278,8 +389,9 @@ class _Rewriter:
         """``statements`` rewritten (their nodes are changed in place: pass a copy to use them
         twice); ``in_with``: inside a run-time ``with`` block."""
         out: list = []
-        for stmt in statements:
-            out.extend(self.statement(stmt, region, loop, in_with))
+        for item in _with_groups(statements):
+            out.extend(self.with_group(item, region, loop) if isinstance(item, list)
+                       else self.statement(item, region, loop, in_with))
         return out or [ast.Pass()]
 
     def statement(self, stmt, region, loop, in_with) -> list:
@@ -307,12 +419,10 @@ class _Rewriter:
             stmt.body = self.block(stmt.body, region, "python", in_with)
             stmt.orelse = self.block(stmt.orelse, region, loop, in_with) if stmt.orelse else []
             return [stmt]
-        if isinstance(stmt, (ast.With, ast.AsyncWith)):
+        if isinstance(stmt, (ast.With, ast.AsyncWith)):  # not a run-time block's (see with_group)
             bound = [n for item in stmt.items if item.optional_vars is not None
                      for n in _target_names(item.optional_vars)]
-            run_block = _with_block(stmt)
-            stmt.body = self.keep(region, bound, stmt) + self.block(
-                stmt.body, region, None if run_block else loop, in_with or run_block)
+            stmt.body = self.keep(region, bound, stmt) + self.block(stmt.body, region, loop, in_with)
             return [stmt]
         if isinstance(stmt, ast.Try):
             for field in ("body", "orelse", "finalbody"):
@@ -325,7 +435,7 @@ class _Rewriter:
             return [stmt]
         targets = stmt.targets if isinstance(stmt, ast.Assign) else [stmt.target] \
             if isinstance(stmt, (ast.AugAssign, ast.AnnAssign)) and getattr(stmt, "value", None) else []
-        guards = [ast.copy_location(ast.Expr(_call("check_store", t.value, ast.Constant(ast.unparse(t)))), stmt)
+        guards = [_located(ast.Expr(_call("check_store", t.value, ast.Constant(ast.unparse(t)))), stmt)
                   for t in targets if isinstance(t, (ast.Attribute, ast.Subscript))]
         return guards + [stmt] + self.keep(region, [n for t in targets for n in _target_names(t)], stmt)
 
@@ -333,18 +443,52 @@ class _Rewriter:
         """``__rt.keep(state, name, value)`` for the names of ``region`` just assigned."""
         if region is None:
             return []
-        calls = [ast.Expr(_call("keep", ast.Name("__rx_st", ast.Load()), ast.Constant(n), ast.Name(n, ast.Load())))
+        state = getattr(region, "state", "__rx_st")
+        calls = [ast.Expr(_call("keep", ast.Name(state, ast.Load()), ast.Constant(n), ast.Name(n, ast.Load())))
                  for n in names if n in region]
         return [ast.fix_missing_locations(ast.copy_location(c, where)) for c in calls]
 
     def leave(self, stmt, region) -> list:
         """``return`` at run time: the core's Return (for the lanes that reach it); in a branch or
         loop body, it ends there."""
+        self.returns_per_lane = True
         out: list[ast.stmt] = [ast.Expr(_call("return_value", ast.Constant(self.owner),
                                                stmt.value or ast.Constant(None)))]
-        if region is not None:
+        if region is not None and not getattr(region, "inline", False):
             out.append(ast.Return(ast.Attribute(ast.Name("__rt", ast.Load()), "RETURNED", ast.Load())))
         return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+
+    def with_group(self, group, region, loop) -> list:
+        """A run-time ``with`` chain (If, Elif..., Else) or loop (For, While), its bodies written
+        in place: the names they assign live in variables as a plain ``if`` or loop's do (state
+        ``__rx_wst<k>``), each body starts from the values before (a loop body: this iteration's),
+        and after the chain or loop each name holds what the lanes left in it."""
+        k = next(self.count)
+        state, kind = f"__rx_wst{k}", group[0][0]
+        bound = [n for _, w in group if w.items[0].optional_vars is not None
+                 for n in _target_names(w.items[0].optional_vars)]
+        names = [n for n in _assigned([s for _, w in group for s in w.body]) if n not in bound]
+        inside = _loads([s for _, w in group for s in w.body])
+        later = [n for n in names if kind == "If" and self.loads.get(n, 0) > inside.get(n, 0)]
+        inner = _Region(names, state, inline=True)
+        first = group[0][1]
+        begin = ast.Assign([ast.Name(state, ast.Store())], _call(
+            "with_state", ast.Constant(self.owner), ast.Constant(kind), ast.Constant(group[-1][0] == "Else"),
+            ast.Tuple([ast.Constant(n) for n in names], ast.Load()), ast.Tuple([ast.Constant(n) for n in later],
+                                                                               ast.Load()),
+            ast.Tuple([_call("current", _call_locals(), ast.Constant(n)) for n in names], ast.Load())))
+        out: list[ast.stmt] = [_located(begin, first)]
+        for which, w in group:
+            item = w.items[0]
+            item.context_expr = _SlotLoads(names, state).visit(item.context_expr)
+            branch = _call("with_branch", ast.Name(state, ast.Load()))
+            start = ast.Assign([_names(names, ast.Store)], branch) if names else ast.Expr(branch)
+            inner_loop = "run" if kind != "If" or loop == "run" else None
+            w.body = self.keep(region, bound, w) + [_located(start, w)] + self.block(w.body, inner, inner_loop, True)
+            out.append(w)
+        end = _call("with_end", ast.Name(state, ast.Load()))
+        out.append(_located(ast.Assign([_names(names, ast.Store)], end) if names else ast.Expr(end), group[-1][1]))
+        return out + self.keep(region, names, first)
 
     def run_time(self, stmt, region, kind: str, test_name: str, names: list, fns: list, extra=()) -> list:
         """The run-time path: the nested functions, then ``names = __rt.<kind>_stmt(...)`` and what
@@ -409,8 +553,9 @@ class _Rewriter:
                          self.keep(region, [target], stmt) + self.block(stmt.body, region, "python", in_with), [])
         fns = [_def(f"__rx_body{k}", ["__rx_st", target] + names, self.block(body_copy, names, "run", in_with))]
         gone = ast.Assign([ast.Name(target, ast.Store())], _call("counter_after_loop", ast.Constant(target)))
+        exits = ast.Constant(_leaves_early(stmt.body))
         out = [ast.Assign([ast.Name(bounds, ast.Store())], ast.Tuple(call.args, ast.Load())),
-               ast.If(_call("static_range", ast.Name(bounds, ast.Load())), [static],
+               ast.If(_call("static_range", ast.Name(bounds, ast.Load()), exits), [static],
                       self.run_time(stmt, region, "for", bounds, names, fns) + [gone]
                       + self.keep(region, [target], stmt))]
         return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
@@ -426,6 +571,34 @@ def _range_call(stmt: ast.For) -> ast.Call | None:
     return None
 
 
+def _leaves_early(statements, nested: bool = False) -> bool:
+    """Whether a loop body can leave its loop early: a ``return``, or a ``break``/``continue`` of
+    its own (``nested``: inside a loop of the body, where only a ``return`` leaves this one)."""
+    for stmt in statements:
+        if isinstance(stmt, ast.Return) or isinstance(stmt, (ast.Break, ast.Continue)) and not nested:
+            return True
+        if isinstance(stmt, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            continue
+        inner_nested = nested or isinstance(stmt, (ast.For, ast.AsyncFor, ast.While))
+        for field in ("body", "orelse", "finalbody", "handlers"):
+            inner = getattr(stmt, field, None) or []
+            if field == "handlers":
+                inner = [s for h in inner for s in h.body]
+            if _leaves_early(inner, inner_nested):
+                return True
+    return False
+
+
+def _loads(statements) -> dict[str, int]:
+    """How many times each name is read in ``statements`` (nested scopes included)."""
+    counts: dict[str, int] = {}
+    for stmt in statements:
+        for node in ast.walk(stmt):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
+                counts[node.id] = counts.get(node.id, 0) + 1
+    return counts
+
+
 def _target_names(target) -> list[str]:
     """The names an assignment target binds (``a``, ``a, (b, c)``, ``*rest``)."""
     if isinstance(target, ast.Name):
@@ -439,6 +612,39 @@ def _target_names(target) -> list[str]:
 
 def _call_locals() -> ast.Call:
     return ast.Call(ast.Name("locals", ast.Load()), [], [])
+
+
+def inline(fn):
+    """``@reactor.inline``: ``fn`` is a helper whose ``return`` (and ``Return``) under per-lane
+    control flow returns from it, for the lanes that reach it (``reactor.dsl.inline``), its
+    Python control flow as written. A plain helper a body calls is made so by itself where
+    it needs to be; decorating says it, and covers calls the rewrite does not see."""
+    return _inline(fn, as_written)
+
+
+def hint(cond, *, max_iterations: int | None = None) -> "Hint":
+    """``while hint(cond, max_iterations=N):`` -- a run-time ``while`` (``cond`` a DSL Bool) that
+    stops after N iterations, the call then raising ``LoopLimitError`` naming the loop's line,
+    as ``While(..., max_iterations=N)`` does (Dr.Jit's ``dr.hint`` spelling). On a Python
+    condition, or in an ``if``, it is ``cond`` itself."""
+    from .control import _check_max
+    return Hint(cond, _check_max(max_iterations))
+
+
+class Hint:
+    """A condition with what :func:`hint` said of its loop."""
+
+    __slots__ = ("cond", "max_iterations")
+
+    def __init__(self, cond, max_iterations: int | None) -> None:
+        self.cond, self.max_iterations = cond, max_iterations
+
+    def __bool__(self) -> bool:
+        return bool(self.cond)
+
+
+def _unhinted(cond):
+    return cond.cond if isinstance(cond, Hint) else cond
 
 
 # -- what the rewritten code calls ----------------------------------------------------------------
@@ -475,8 +681,15 @@ class _Runtime:
     RETURNED = ("returned",)  # what a branch gives when it ended with return: its lanes are done
 
     @staticmethod
+    def call(fn, *args, **kwargs):
+        """A call in a rewritten body: a helper of the user's runs as written (its ``if``/``while``
+        rewritten; inlined as with ``@reactor.inline`` where a ``return`` may act per lane)."""
+        return helper(fn)(*args, **kwargs)
+
+    @staticmethod
     def static(cond) -> bool:
         """Whether ``cond`` is Python's (decided while building) rather than a DSL Bool."""
+        cond = _unhinted(cond)
         if isinstance(cond, _Unset):
             cond._refuse()
         return not isinstance(cond, Value)
@@ -487,7 +700,7 @@ class _Runtime:
 
     @staticmethod
     def if_stmt(owner, cond, names, before, then_fn, else_fn):
-        return _if_stmt(owner, cond, names, before, then_fn, else_fn)
+        return _if_stmt(owner, _unhinted(cond), names, before, then_fn, else_fn)
 
     @staticmethod
     def keep(state, name: str, value) -> None:
@@ -567,17 +780,20 @@ class _Runtime:
                             "you need in a name assigned in the body)")
 
     @staticmethod
-    def static_range(bounds) -> bool:
-        """Whether ``range(*bounds)`` is Python's (every bound a Python int)."""
+    def static_range(bounds, leaves_early: bool) -> bool:
+        """Whether ``range(*bounds)`` is Python's, unrolled while building: every bound a Python
+        int and a body that cannot leave early (a ``return``, ``break`` or ``continue`` may act
+        per lane: such a loop runs at run time over the same counts, as GLSL's ``for`` does)."""
         for b in bounds:
             if isinstance(b, _Unset):
                 b._refuse()
-        return not any(isinstance(b, Value) for b in bounds)
+        return not leaves_early and not any(isinstance(b, Value) for b in bounds)
 
     @staticmethod
     def while_stmt(owner, first_test, names, before, test_fn, body_fn):
+        limit = first_test.max_iterations if isinstance(first_test, Hint) else None
         return _loop(owner, names, before, lambda state, values: flow.while_begin(
-            lambda: test_fn(state, *values()), lane_exits=True), body_fn)
+            lambda: _unhinted(test_fn(state, *values())), max_iterations=limit, lane_exits=True), body_fn)
 
     @staticmethod
     def for_stmt(owner, bounds, names, before, body_fn):
@@ -591,6 +807,55 @@ class _Runtime:
             block, opened["i"] = flow.for_begin(start, stop, step, lane_exits=True)
             return block
         return _loop(owner, names, before, begin, lambda state, *vals: body_fn(state, opened["i"], *vals))
+
+    @staticmethod
+    def with_state(owner, kind: str, complete: bool, names, later, before):
+        """Before a run-time ``with`` chain or loop: the state of the names its bodies assign
+        (a name with no value before gets a variable only if in ``later``: read after an If chain)."""
+        state = _State(owner, names, before)
+        state.fresh = set(later)
+        state.kind, state.complete, state.assigned = kind, complete, set()
+        state.entered = False
+        return state
+
+    @staticmethod
+    def with_branch(state):
+        """At the top of a ``with`` body: the names' values there (a loop's: this iteration's)."""
+        if state.entered:
+            state.branches.append(state.assigned)
+        state.assigned, state.entered = set(), True
+        if state.kind == "If":
+            return tuple(state.before.values())
+        return tuple(state.slots[n].value if n in state.slots else old for n, old in state.before.items())
+
+    @staticmethod
+    def with_end(state):
+        """After a ``with`` chain or loop: what each name holds (see :func:`_if_stmt`, :func:`_loop`)."""
+        if state.entered:
+            state.branches.append(state.assigned)
+        if state.kind != "If":
+            return _after_loop(state)
+        out = []
+        for name, old in state.before.items():
+            refused = state.refused(name, "under a run-time condition")
+            everywhere = state.complete and all(name in assigned for assigned in state.branches)
+            if refused is not None:
+                out.append(refused)
+            elif name in state.slots and (everywhere or _storable(old) and _usable(old)):
+                out.append(state.slots[name].value)
+            elif name in state.slots or isinstance(old, _Unset):
+                out.append(_Unset(name))
+            else:
+                out.append(old)
+        return tuple(out)
+
+    @staticmethod
+    def slotted(state, name: str) -> bool:
+        return name in state.slots
+
+    @staticmethod
+    def slot_value(state, name: str):
+        return state.slots[name].value
 
     @staticmethod
     def python_loop_exit(what: str) -> None:
@@ -623,6 +888,11 @@ class _State:
         self.slots: dict = {}  # the names this construct touched -> their variable
         self.objects: dict = {}  # name -> the Python object a branch assigned (it cannot differ per lane)
         self.assigned: set = set()  # names the branch being traced assigned
+        self.before = dict(zip(names, before))  # what each name held before the construct
+        self.fresh: set | None = None  # the names with no variable yet that may get one (None: all)
+        self.kind, self.complete = "", False  # a with block's: "If" or a loop; an If chain with Else
+        self.branches: list[set] = []  # a with If chain's: the names each branch ended assigned
+        self.entered = False  # a with block's: whether a body began
         for name, old in zip(names, before):
             if _storable(old) and _usable(old):
                 self.store(name, old, fresh_if_other_type=True)
@@ -654,11 +924,19 @@ class _State:
 
     def keep(self, name: str, value) -> None:
         self.assigned.add(name)
+        old = self.before.get(name)
+        if _is_variable(value) and value is old:
+            return  # a Variable updated in place (``v += 1``): it is per lane already
+        if _is_variable(old):
+            raise DSLTypeError(f"'{name} = ...' under a run-time condition rebinds the name of a "
+                               f"{type(old).__name__}: write '{name}.set(...)' to change it in the lanes that run "
+                               f"this (or drop the Variable and assign the name: it becomes per lane by itself)")
         if isinstance(value, _Unset) or not _storable(value) or not _usable(value):
             self.objects[name] = value  # not storable, or a value of a block that ended in the branch
             return
         self.objects.pop(name, None)
-        self.store(name, value)
+        if self.fresh is None or name in self.slots or name in self.fresh:
+            self.store(name, value)
 
 
 def _same_type(slot, value) -> bool:
@@ -712,8 +990,14 @@ def _loop(owner, names, before, begin, body_fn):
     state.assigned = set()
     body_fn(state, *values())
     flow.end(block)
+    return _after_loop(state)
+
+
+def _after_loop(state) -> tuple:
+    """What each name holds after a run-time loop: its last value, per lane (a name first assigned
+    in the body has none: the loop may not have run)."""
     out = []
-    for name, old in zip(names, before):
+    for name, old in state.before.items():
         refused = state.refused(name, "in a run-time loop")
         if refused is not None:
             out.append(refused)
@@ -727,8 +1011,15 @@ def _loop(owner, names, before, begin, body_fn):
     return tuple(out)
 
 
+def _is_variable(v) -> bool:
+    from .variables import PointerValue, is_variable
+    from .vectors import _VecVariable
+    return is_variable(v) or isinstance(v, (PointerValue, _VecVariable))
+
+
 def _storable(v) -> bool:
-    return isinstance(v, (bool, numbers.Number, Value)) or _is_vector(v)
+    """Whether ``v`` can live in a per-lane variable of the rewrite (a Variable is one already)."""
+    return (isinstance(v, (bool, numbers.Number, Value)) or _is_vector(v)) and not _is_variable(v)
 
 
 def _usable(v) -> bool:

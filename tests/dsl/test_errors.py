@@ -90,9 +90,9 @@ def test_value_used_after_its_block():
             y = x * 2.0
         return y  # E-scope-block
 
-    with pytest.raises(ScopeError) as e:
+    with pytest.raises(DSLTypeError) as e:  # caught at its use, naming the name (Python as written)
         Function(f).compile()
-    check(e, ScopeError, "E-scope-block", "'If' block", "Variable")
+    check(e, DSLTypeError, "E-scope-block", "'y' is assigned on some paths", "give it a value before")
 
     def g(n: Int) -> Int:
         with For(0, n) as i:

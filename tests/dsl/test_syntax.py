@@ -130,17 +130,34 @@ def test_mutating_a_value_under_a_run_time_condition_is_refused():
         _build(mutate)
 
 
-def test_leaving_a_python_loop_per_lane_is_refused():
-    def unrolled(x: Float) -> Float:
+def test_a_range_loop_that_breaks_runs_at_run_time_and_a_python_loop_that_breaks_per_lane_is_refused():
+    @kernel
+    def doubling(x: Float) -> Float:
         y = x
-        for _ in range(3):
+        for _ in range(3):           # a break of its own: a run-time loop over 0..2, as GLSL's
             if y > 1.0:
                 break
             y = y * 2.0
         return y
 
+    def twice(v):
+        for _ in range(3):
+            if v > 1:
+                break
+            v = np.float32(v * 2)
+        return v
+    assert np.array_equal(doubling(X), np.array([twice(v) for v in X], np.float32))
+
+    def over_a_list(x: Float) -> Float:
+        y = x
+        for scale in (2.0, 3.0):     # Python's loop over Python values: it runs while building
+            if y > 1.0:
+                break
+            y = y * scale
+        return y
+
     with pytest.raises(ControlFlowError, match="'break' under a run-time condition leaves a Python loop"):
-        _build(unrolled)
+        _build(over_a_list)
 
 
 def test_every_body_is_traced_as_written():
@@ -281,13 +298,35 @@ def _plain_helper(v):
     return v
 
 
-def test_a_plain_helpers_run_time_return_is_refused():
+def _glsl_like_helper(v, w):          # a plain function, as a GLSL author writes one
+    for _ in range(4):
+        if v > w:
+            return v                 # per lane: these lanes leave the helper with v
+        v = v * 2.0
+    return -v
+
+
+def test_a_plain_helpers_returns_return_from_it_per_lane():
+    @kernel
     def calls_plain(x: Float) -> Float:
-        return _plain_helper(x) + 1.0
+        return _glsl_like_helper(x, 1.0) + _plain_helper(x)
+
+    def want(v):
+        for _ in range(4):
+            if v > 1:
+                return v
+            v = np.float32(v * 2)
+        return -v
+    expected = np.array([want(v) for v in X], np.float32) + np.where(X < 0, X * np.float32(0.5), X)
+    assert np.array_equal(calls_plain(X), expected)
+
+
+def test_a_helpers_run_time_return_where_the_call_is_not_rewritten_is_refused():
+    def calls_in_a_lambda(x: Float) -> Float:
+        return (lambda v: _plain_helper(v))(x) + 1.0  # a lambda's calls are not rewritten
 
     with pytest.raises(ControlFlowError, match="decorate '_plain_helper' with @reactor.inline"):
-        kernel(calls_plain, name="calls_plain")
-
+        kernel(calls_in_a_lambda, name="calls_in_a_lambda")
 
 
 @kernel
@@ -308,3 +347,155 @@ def test_and_or_not_conditional_expressions_and_chains_per_lane():
     r = np.where(~inside | (y > 2), r * 10, r)
     r = np.where((y > -0.5) & (y < 0.5), r + 1000, r) + 1
     assert np.array_equal(logic(X, y), r.astype(np.float32))
+
+
+# -- the with forms: names assigned in a with If/For/While block are per lane too -----------------
+
+from reactor import Elif, Else, If, While  # noqa: E402
+
+
+@kernel
+def march_with_for(x: Float) -> Float:
+    alpha = 1.0                      # a Python float before the loop
+    with For(0, 4):
+        alpha *= 0.5                 # runs per iteration, not once at build time
+    return alpha * x
+
+
+@kernel
+def set_in_with_if(x: Float) -> Float:
+    r = 1.0
+    with If(x < 0.0):
+        r = 2.0                      # the lanes of the If only
+    return r
+
+
+@kernel
+def with_chain(x: Float) -> Float:
+    with If(x < 0.0):
+        r = 2.0
+    with Elif(x > 1.0):
+        r = x * x
+    with Else():
+        r = x                        # every branch assigns r: it has a value after the chain
+    hit = False
+    with If(x > 2.5):
+        hit = True                   # a Python bool: a Bool per lane
+    with If(hit):
+        r = r + 100.0
+    return r + 1.0
+
+
+@kernel
+def with_while(x: Float) -> Float:
+    v = x
+    with While(lambda: v < 100.0):   # the lambda reads v's value at each test
+        v = v * 2.0 + 1.0
+    return v
+
+
+@kernel
+def with_for_break(x: Float) -> Float:
+    s = 0.0
+    with For(0, 10):
+        s = s + x
+        with If(s > 3.0):
+            Break()
+    return s
+
+
+@kernel
+def variable_in_with_while(x: Float) -> Float:
+    k = Variable(Float, 0.0)
+    with While(lambda: k < x):
+        k += 1.0                     # a Variable changed in place, as before
+    return k
+
+
+def test_names_assigned_in_with_blocks_are_per_lane():
+    x = np.linspace(0.5, 60.0, 37, dtype=np.float32)
+    assert np.array_equal(march_with_for(x), x * np.float32(0.0625))
+    signed = np.linspace(-3, 3, 37, dtype=np.float32)
+    assert np.array_equal(set_in_with_if(signed), np.where(signed < 0, 2.0, 1.0).astype(np.float32))
+    r = np.where(signed < 0, 2.0, np.where(signed > 1, signed * signed, signed)).astype(np.float32)
+    want = np.where(signed > 2.5, r + np.float32(100), r) + np.float32(1)
+    assert np.array_equal(with_chain(signed), want.astype(np.float32))
+
+    def doubled(v):
+        while v < 100:
+            v = np.float32(v * np.float32(2) + np.float32(1))
+        return v
+    assert np.array_equal(with_while(x), np.array([doubled(v) for v in x], np.float32))
+
+    def summed(v):
+        s = np.float32(0)
+        for _ in range(10):
+            s = np.float32(s + v)
+            if s > 3:
+                break
+        return s
+    assert np.array_equal(with_for_break(x), np.array([summed(v) for v in x], np.float32))
+    assert np.array_equal(variable_in_with_while(x), np.ceil(x))
+
+
+def test_a_name_set_in_some_branches_of_a_with_chain_is_an_error_naming_it():
+    def f(x: Float) -> Float:
+        with If(x < 0.0):
+            r = 2.0
+        with Elif(x > 1.0):
+            r = x
+        return r  # no Else: r has no value in the other lanes
+
+    with pytest.raises(DSLTypeError, match="'r' is assigned on some paths of a run-time 'if' only") as info:
+        kernel(f)
+    assert "test_syntax.py" in str(info.value)
+
+
+def test_rebinding_a_variables_name_under_a_run_time_condition_says_set():
+    def f(x: Float) -> Float:
+        v = Variable(Float, 0.0)
+        with For(0, 3):
+            v = v + x  # rebinds the name: the Variable would not change
+        return v
+
+    with pytest.raises(DSLTypeError, match=r"write 'v.set\(...\)'"):
+        kernel(f)
+
+    def g(x: Float) -> Float:
+        v = Variable(Float, 0.0)
+        if x > 0.0:
+            v = x
+        return v
+
+    with pytest.raises(DSLTypeError, match=r"rebinds the name of a Variable"):
+        kernel(g)
+
+
+def test_a_recursive_function_with_run_time_blocks_calls_itself():
+    from reactor import Module
+
+    mod = Module()
+
+    @mod.function
+    def fact(n: Int) -> Int:
+        if n <= 1:
+            return 1
+        return n * fact(n - 1)
+
+    assert mod.compile().fact(10) == 3628800
+
+
+@kernel
+def halve_until_small(x: Float) -> Float:
+    while reactor.hint(x > 1.0, max_iterations=8):  # Dr.Jit's spelling of a bound
+        x = x * 0.5
+    return x
+
+
+def test_a_plain_while_bounded_by_hint_stops_with_a_message_naming_its_line():
+    x = np.array([0.5, 3.0, 200.0], np.float32)
+    assert np.array_equal(halve_until_small(x), np.array([0.5, 0.75, 0.78125], np.float32))
+    with pytest.raises(reactor.LoopLimitError, match=r"test_syntax.py:\d+.*8 iterations"):
+        halve_until_small(np.array([1e6], np.float32))  # 20 halvings needed
+    with pytest.raises(DSLTypeError, match="max_iterations must be a positive int"):
+        reactor.hint(True, max_iterations=0)

@@ -1,6 +1,7 @@
 """Differential testing of plain Python control flow in kernels: random bodies with nested if/elif/
 else on per-lane conditions (and, or, not, chained comparisons), conditional expressions, while and
-for-range loops with break and continue, early returns, names assigned on some paths, each built
+for-range loops with break and continue, early returns, names assigned on some paths, calls of a
+plain helper with the same (its early returns returning from it, per lane), each built
 as a kernel and compared lane by lane with the same source run as plain Python on float32 scalars,
 element by element (Python's own semantics)."""
 from __future__ import annotations
@@ -21,9 +22,10 @@ VARS = ("a", "b", "c")
 class Program:
     """A random body over inputs x, y (Float) and n (Int, 0..6): every loop bounded by a counter."""
 
-    def __init__(self, seed: int) -> None:
+    def __init__(self, seed: int, helper: str | None = None) -> None:
         self.rng = random.Random(seed)
         self.loops = 0
+        self.helper = helper  # a helper function's name the expressions may call
 
     def expr(self, depth: int = 0) -> str:
         r = self.rng.random()
@@ -31,6 +33,8 @@ class Program:
             return self.rng.choice(["x", "y", "a", "b", "c", f"{self.rng.choice([0.5, 1.5, 2.0, -0.75])}"])
         if depth == 0 and r < 0.45:
             return f"({self.expr(1)} if {self.cond(1)} else {self.expr(1)})"
+        if depth == 0 and r < 0.52 and self.helper:
+            return f"{self.helper}({self.expr(1)}, {self.expr(1)}, n)"
         op = self.rng.choice(["+", "-", "*"])
         return f"({self.expr(depth + 1)} {op} {self.expr(depth + 1)})"
 
@@ -81,8 +85,13 @@ class Program:
         return out
 
     def source(self, name: str) -> str:
+        """The body, after a plain helper (``<name>_h``, early returns and all) it may call."""
+        helper = Program(self.rng.randrange(2**32))
+        lines = ["    a = x", "    b = y", "    c = 0.5"] + helper.block(0, 1, False) + ["    return a - b * c"]
+        text = f"def {name}_h(x, y, n):\n" + "\n".join(lines) + "\n\n\n"
+        self.helper = f"{name}_h"
         body = ["    a = x", "    b = y", "    c = 0.25"] + self.block(0, 1, False) + ["    return a + b * c"]
-        return f"def {name}(x: Float, y: Float, n: Int) -> Float:\n" + "\n".join(body) + "\n"
+        return text + f"def {name}(x: Float, y: Float, n: Int) -> Float:\n" + "\n".join(body) + "\n"
 
 
 def _module(tmp_path, sources: dict[str, str]):
@@ -90,7 +99,8 @@ def _module(tmp_path, sources: dict[str, str]):
     text = HEADER
     for name, src in sources.items():
         text += src + "\n\n"
-        text += src.replace(f"def {name}(", f"def {name}_py(").replace(": Float", "").replace(": Int", "") \
+        own = src[src.index(f"def {name}("):]  # the body (its helper is shared: plain Python for both)
+        text += own.replace(f"def {name}(", f"def {name}_py(").replace(": Float", "").replace(": Int", "") \
             .replace(" -> Float", "") + "\n\n"
     path.write_text(text)
     spec = importlib.util.spec_from_file_location("syntax_fuzz_programs", path)
@@ -133,11 +143,11 @@ def test_plain_control_flow_matches_python_per_element(tmp_path):
     assert not mismatches, f"{len(mismatches)} mismatches in {PROGRAMS} programs; first:\n" + mismatches[0]
 
 
-@pytest.mark.parametrize("length", [0, 1, 7, 15, 16, 17, 33])
+@pytest.mark.parametrize("length", range(34))
 def test_every_tail_length(tmp_path, length):
     import reactor
 
-    src = Program(99).source("tail_prog")
+    src = Program(99 + length).source("tail_prog")
     module = _module(tmp_path, {"tail_prog": src})
     ufunc = reactor.kernel(reactor.syntax(module.tail_prog), name=f"tail_prog_{length}")
     x, y, n = _inputs(np.random.default_rng(length), length)

@@ -160,7 +160,7 @@ def test_assigning_a_swizzle_of_an_outside_value_inside_a_block_is_an_error():
             v.x = 1.0
         return v.x
 
-    with pytest.raises(ScopeError, match="Variable"):
+    with pytest.raises(DSLTypeError, match="'v.x = ...' under a run-time condition changes a vec2 for every lane"):
         kernel(f)
 
 

@@ -192,7 +192,7 @@ def m_counter_after_loop():
     Function(f).compile()
 
 
-@case("a value from inside an If used after it", ScopeError, "inside a 'If' block", "Variable")
+@case("a value from inside an If used after it", DSLTypeError, "'y' is assigned on some paths", "give it a value before")
 def m_value_after_if():
     def f(x: Float) -> Float:
         with If(x > 0.0):
@@ -361,11 +361,11 @@ def _helper_returning(x):
     return x
 
 
-@case("a run-time return in a plain helper", ControlFlowError, "a helper called from the body",
-      "@reactor.inline")
+@case("a run-time return in a helper called where the rewrite does not see the call (in a lambda)",
+      ControlFlowError, "a helper called from the body", "@reactor.inline")
 def m_helper_return():
     def f(x: Float) -> Float:
-        return reactor.syntax(_helper_returning)(x)
+        return (lambda v: reactor.syntax(_helper_returning)(v))(x)
     Function(f).compile()
 
 
