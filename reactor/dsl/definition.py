@@ -55,7 +55,7 @@ class FunctionDef:
             raise DSLTypeError(f"a function returns one value type, not {returns!r}")
         em = _em.FunctionEmitter(module, module.unique_name(self.name), returns, params,
                                  list(self.signature.names), width=width)
-        written = as_written(self.body)  # Python's if/while/for on DSL values run at run time
+        written = as_written(self.body, module.build.cache)  # Python's if/while/for on DSL values run at run time
         body = begin(em, Built(self.name, returns, params), written)
         module.functions[key] = em.function
         with em:

@@ -35,9 +35,11 @@ from __future__ import annotations
 
 import ast
 import builtins
-import copy
 import dis
+import hashlib
+import marshal
 import os
+import sys
 import sysconfig
 import types
 import functools
@@ -50,6 +52,7 @@ import typing
 import weakref
 
 from ..errors import ControlFlowError, DSLTypeError
+from ..ir import emitter as _em
 from ..source import AST_LOCK
 from . import flow
 from .control import Return
@@ -60,33 +63,20 @@ RUNTIME_BLOCKS = ("If", "Elif", "Else", "For", "While")
 _BUILTIN_NAMES = frozenset(dir(builtins))  # calls left as they are (locals() must stay the caller's)
 
 
-def syntax(fn):
+def syntax(fn, *, use_disk: bool = False):
     """Rewrite ``fn``'s ``if``, ``while`` and ``for ... in range(...)`` statements so that a DSL
     condition runs them at run time (see the module docstring); the result is a plain function
     with ``fn``'s name, signature and lines (``fn`` itself where there is nothing to rewrite).
-    Closure variables are read when ``fn`` is decorated."""
+    Closure variables are read when ``fn`` is decorated. The rewritten code is kept per source
+    text (in memory; with ``use_disk``, in reactor's authenticated disk cache too, as Python
+    keeps ``.pyc`` files), so the same ``def`` is rewritten once."""
     code = getattr(fn, "__code__", None)
-    tree = _fresh_tree(code)
-    if tree is None:
-        raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
-    kinds = {type(n) for n in ast.walk(tree)}
-    if not kinds & {ast.If, ast.While, ast.For, ast.IfExp, ast.BoolOp} and not _not_or_chain(tree) \
-            and not any(_with_kind(n) for n in ast.walk(tree)) and not _calls_helpers(tree):
-        return fn  # nothing to rewrite
-    if kinds & {ast.Global, ast.Nonlocal}:
-        raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
-                           f"return them instead")
-    tree.body = [_Expressions().visit(stmt) for stmt in tree.body]
-    rewriter = _Rewriter(f"{code.co_filename}:{tree.lineno}:{tree.name}")
-    new = rewriter.function(tree)
-    new.name = "__rx_written"  # not the user's name: the body may call what that name holds (recursion)
-    factory = _def("__reactor_make", ["__rt"] + list(code.co_freevars),
-                   [new, ast.Return(ast.Name(new.name, ast.Load()))])
-    for node in [factory, factory.body[1], factory.body[1].value] + factory.args.args:  # the only new nodes here
-        ast.copy_location(node, tree)
+    if code is None:
+        raise DSLTypeError(f"@syntax needs a Python function (a def in a file), not {fn!r}")
+    if type(fn) is types.FunctionType and not _needs_rewrite(fn):
+        return fn  # nothing to rewrite, read from its bytecode
+    compiled, returns, owner = _rewritten(fn, code, use_disk)
     namespace: dict = {}
-    with AST_LOCK:
-        compiled = compile(ast.Module(body=[factory], type_ignores=[]), code.co_filename, "exec")
     exec(compiled, fn.__globals__, namespace)  # noqa: S102 - the user's own code, rewritten
     cells = [c.cell_contents for c in (fn.__closure__ or ())]
     rewritten = namespace["__reactor_make"](_Runtime, *cells)
@@ -96,9 +86,64 @@ def syntax(fn):
     functools.update_wrapper(rewritten, fn)
     del rewritten.__wrapped__  # its own code is what runs (and what errors point into)
     rewritten.__reactor_syntax__ = True
-    rewritten.__reactor_returns__ = rewriter.returns_per_lane  # a return that may act per lane
-    _OWNERS[f"{code.co_filename}:{tree.lineno}:{tree.name}"] = rewritten.__code__
+    rewritten.__reactor_returns__ = returns  # a return that may act per lane
+    _OWNERS[owner] = rewritten.__code__
     return rewritten
+
+
+_REWRITE_FORMAT = 4  # changes when the rewrite does: entries of another format are never read
+_REWRITES: dict = {}  # source key -> (module code, returns per lane, owner)
+
+
+def _rewritten(fn, code, use_disk: bool):
+    """The compiled rewrite of ``fn``'s ``def`` (a module defining ``__reactor_make``), whether
+    a return of it may act per lane, and its owner name: from memory, the disk cache, or made."""
+    from ..jit import cache
+
+    found = _def_lines(code)
+    if found is None:
+        raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
+    lines, start = found
+    key = "w" + hashlib.sha256(repr((_REWRITE_FORMAT, sys.version, code.co_filename, start, code.co_name,
+                                     code.co_freevars, "".join(lines))).encode()).hexdigest()[:40]
+    made = _REWRITES.get(key)
+    if made is None and use_disk:
+        raw = cache.disk_get(key, ".w")
+        if raw is not None:
+            try:
+                made = marshal.loads(raw)
+            except (ValueError, EOFError, TypeError):
+                made = None
+    if made is None:
+        made = _rewrite(fn, code, lines, start)
+        if use_disk:
+            cache.disk_put(key, marshal.dumps(made), ".w")
+    _REWRITES[key] = made
+    return made
+
+
+def _rewrite(fn, code, lines, start):
+    tree = _parse_def(lines, start) or _fresh_tree(code)
+    if tree is None:
+        raise DSLTypeError(f"@syntax needs the source of {getattr(fn, '__name__', fn)!r} (a def in a file)")
+    text = "".join(lines)
+    if ("global" in text or "nonlocal" in text) and any(isinstance(n, (ast.Global, ast.Nonlocal))
+                                                        for n in ast.walk(tree)):
+        raise DSLTypeError(f"@syntax: '{tree.name}' declares global or nonlocal names; pass values in and "
+                           f"return them instead")
+    tree.body = [_Expressions().visit(stmt) for stmt in tree.body]
+    owner = f"{code.co_filename}:{tree.lineno}:{tree.name}"
+    rewriter = _Rewriter(owner)
+    new = rewriter.function(tree)
+    new.name = "__rx_written"  # not the user's name: the body may call what that name holds (recursion)
+    factory = _def("__reactor_make", ["__rt"] + list(code.co_freevars),
+                   [new, ast.Return(ast.Name(new.name, ast.Load()))])
+    for node in [factory, factory.body[1], factory.body[1].value] + factory.args.args:  # the only new nodes here
+        ast.copy_location(node, tree)
+    module = _located_all(ast.Module(body=[factory], type_ignores=[]))  # once: new nodes, their parents'
+    with AST_LOCK:
+        compiled = compile(module, code.co_filename, "exec")
+    return compiled, rewriter.returns_per_lane, owner
 
 
 #: a rewritten function's name in the code it calls -> its code object (where a return returns from)
@@ -108,7 +153,7 @@ _OWNERS: dict[str, typing.Any] = {}
 _WRITTEN: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
-def as_written(body):
+def as_written(body, use_disk: bool = False):
     """What kernels and Functions trace: ``body`` with its Python control flow rewritten (as
     ``@syntax`` does) where it has any, else ``body`` itself; a body that cannot be rewritten (no
     source, ``global``/``nonlocal``, a closure cell not yet filled) is traced as it is, where
@@ -120,7 +165,7 @@ def as_written(body):
     except (KeyError, TypeError):
         pass
     try:
-        written = syntax(body)
+        written = syntax(body, use_disk=use_disk) if _needs_rewrite(body) else body
     except (DSLTypeError, ValueError):  # ValueError: an empty closure cell
         written = body
     try:
@@ -131,13 +176,54 @@ def as_written(body):
 
 
 _HELPERS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-#: the opcodes of code that may need the rewrite: a branch, a loop, ``not``, a call (of a helper that may)
-_MAY_BRANCH = frozenset(op for name, op in dis.opmap.items()
-                        if "JUMP" in name and "IF" in name or "CALL" in name or name in ("FOR_ITER", "UNARY_NOT"))
+#: the opcodes of code that needs the rewrite: a branch, a loop, ``not``, a ``with`` block
+_REWRITTEN_OPS = frozenset(op for name, op in dis.opmap.items()
+                           if "JUMP" in name and "IF" in name
+                           or name in ("FOR_ITER", "UNARY_NOT", "SETUP_WITH", "BEFORE_WITH"))
 _LIBRARY_DIRS = tuple(os.path.realpath(p) + os.sep for p in {
     os.path.dirname(os.path.dirname(os.path.abspath(__file__))),  # reactor
     os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "routines"),
     *(sysconfig.get_paths()[k] for k in ("stdlib", "purelib", "platlib"))})
+_NEEDS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _users(fn) -> bool:
+    """Whether ``fn`` is a plain function of the user's (not a library's, not a lambda)."""
+    return type(fn) is types.FunctionType and fn.__name__ != "<lambda>" and \
+        not os.path.realpath(fn.__code__.co_filename).startswith(_LIBRARY_DIRS)
+
+
+def _needs_rewrite(fn) -> bool:
+    """Whether ``fn``'s code has control flow to rewrite (a branch, a loop, ``not``, ``with``), or
+    calls a function of the user's that has (found by name: a global, a closure variable, an
+    attribute of a module of the user's), read from its bytecode: no parse where none is needed."""
+    try:
+        return _NEEDS[fn]
+    except (KeyError, TypeError):
+        pass
+    _NEEDS[fn] = False  # while deciding: a recursive call adds nothing
+    code = fn.__code__
+    needed = bool(set(code.co_code[::2]) & _REWRITTEN_OPS) or any(
+        _users(callee) and _needs_rewrite(callee) for callee in _callees(fn))
+    _NEEDS[fn] = needed
+    return needed
+
+
+def _callees(fn):
+    """The objects ``fn``'s code may call by name: its globals and closure variables, and the
+    attributes it names of modules of the user's among them."""
+    code = fn.__code__
+    names = set(code.co_names)
+    found = [fn.__globals__[n] for n in names if n in fn.__globals__]
+    for cell in fn.__closure__ or ():
+        try:
+            found.append(cell.cell_contents)
+        except ValueError:  # empty
+            pass
+    for module in [m for m in found if isinstance(m, types.ModuleType)]:
+        if not os.path.realpath(getattr(module, "__file__", None) or os.sep).startswith(_LIBRARY_DIRS):
+            found += [getattr(module, n) for n in names if n in vars(module)]
+    return found
 
 
 def helper(fn):
@@ -150,22 +236,19 @@ def helper(fn):
         return _HELPERS[fn]
     except KeyError:
         pass
-    code = fn.__code__
     made = fn
-    if getattr(fn, "__reactor_syntax__", False) or (
-            not os.path.realpath(code.co_filename).startswith(_LIBRARY_DIRS) and fn.__name__ != "<lambda>"
-            and any(op in _MAY_BRANCH for op in code.co_code[::2])):
-        made = as_written(fn)
+    if getattr(fn, "__reactor_syntax__", False) or _users(fn) and _needs_rewrite(fn):
+        made = as_written(fn, _em.building() and _em.current().module.build.cache)
         if getattr(made, "__reactor_returns__", False):
             made = _inline(made)
     _HELPERS[fn] = made
     return made
 
 
-def _fresh_tree(code) -> ast.FunctionDef | None:
-    """The ``def`` of a code object, parsed anew (the rewrite changes it), with the file's line
-    numbers; None without source. The block is cut from the file by indentation (a tokenizer,
-    as ``inspect`` uses, costs more than the whole rewrite), ``inspect``'s way if that fails."""
+def _def_lines(code) -> tuple[list[str], int] | None:
+    """The lines of a code object's ``def`` (decorators included) and its first line's number;
+    None without source. The block is cut from the file by indentation (a tokenizer, as
+    ``inspect`` uses, costs more than the whole rewrite), ``inspect``'s way if that fails."""
     if code is None:
         return None
     lines = linecache.getlines(code.co_filename)
@@ -176,9 +259,21 @@ def _fresh_tree(code) -> ast.FunctionDef | None:
         while end < len(lines) and (not lines[end].strip() or len(lines[end]) - len(lines[end].lstrip()) > indent
                                     or lines[end].lstrip().startswith((")", "]", "}"))):
             end += 1
-        tree = _parse_def(lines[first:end], first + 1)
-        if tree is not None:
-            return tree
+        return lines[first:end], first + 1
+    try:
+        block, start = inspect.getsourcelines(code)
+    except (OSError, TypeError):
+        return None
+    return block, start
+
+
+def _fresh_tree(code) -> ast.FunctionDef | None:
+    """The ``def`` of a code object, parsed anew (the rewrite changes it), with the file's line
+    numbers; None without source (``inspect``'s way where the cut of :func:`_def_lines` fails)."""
+    found = _def_lines(code)
+    tree = _parse_def(*found) if found else None
+    if tree is not None or code is None:
+        return tree
     try:
         block, start = inspect.getsourcelines(code)
     except (OSError, TypeError):
@@ -194,18 +289,6 @@ def _parse_def(lines: list[str], start: int) -> ast.FunctionDef | None:
         return None
     fn = tree.body[0] if len(tree.body) == 1 else None
     return fn if isinstance(fn, ast.FunctionDef) else None
-
-
-def _calls_helpers(tree) -> bool:
-    """Whether ``tree`` calls anything but a builtin (a helper that may need rewriting)."""
-    return any(isinstance(n, ast.Call) and not (isinstance(n.func, ast.Name) and n.func.id in _BUILTIN_NAMES)
-               for n in ast.walk(tree))
-
-
-def _not_or_chain(tree) -> bool:
-    """Whether ``tree`` has a ``not`` or a chained comparison (``a < b < c``)."""
-    return any(isinstance(n, ast.UnaryOp) and isinstance(n.op, ast.Not) or isinstance(n, ast.Compare)
-               and len(n.ops) > 1 for n in ast.walk(tree))
 
 
 class _Expressions(ast.NodeTransformer):
@@ -227,18 +310,18 @@ class _Expressions(ast.NodeTransformer):
         self.generic_visit(node)
         what = "bool_and" if isinstance(node.op, ast.And) else "bool_or"
         call = _call(what, node.values[0], *[self._thunk(v) for v in node.values[1:]])
-        return ast.fix_missing_locations(ast.copy_location(call, node))
+        return ast.copy_location(call, node)
 
     def visit_UnaryOp(self, node):
         self.generic_visit(node)
         if not isinstance(node.op, ast.Not):
             return node
-        return ast.fix_missing_locations(ast.copy_location(_call("bool_not", node.operand), node))
+        return ast.copy_location(_call("bool_not", node.operand), node)
 
     def visit_IfExp(self, node):
         self.generic_visit(node)
         call = _call("choose", node.test, self._thunk(node.body), self._thunk(node.orelse))
-        return ast.fix_missing_locations(ast.copy_location(call, node))
+        return ast.copy_location(call, node)
 
     def visit_Call(self, node):
         """``f(...)`` -> ``__rt.call(f, ...)``: a helper of the user's is called as written too."""
@@ -250,17 +333,17 @@ class _Expressions(ast.NodeTransformer):
             return node
         call = ast.Call(ast.Attribute(ast.Name("__rt", ast.Load()), "call", ast.Load()), [f] + node.args,
                         node.keywords)
-        return ast.fix_missing_locations(ast.copy_location(call, node))
+        return ast.copy_location(call, node)
 
     def visit_Compare(self, node):
         self.generic_visit(node)
         if len(node.ops) == 1:
             return node
         operands = [node.left] + node.comparators
-        pairs = [ast.Compare(copy.deepcopy(operands[k]), [op], [copy.deepcopy(operands[k + 1])])
+        pairs = [ast.Compare(_copy(operands[k]), [op], [_copy(operands[k + 1])])
                  for k, op in enumerate(node.ops)]
         call = _call("bool_and", pairs[0], *[self._thunk(pair) for pair in pairs[1:]])
-        return ast.fix_missing_locations(ast.copy_location(call, node))
+        return ast.copy_location(call, node)
 
 
 def _own_nodes(node):
@@ -281,6 +364,9 @@ def _assigned(statements) -> list[str]:
                 names.setdefault(node.id, None)
             elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
                 names.setdefault(node.name, None)
+            elif isinstance(node, (ast.Import, ast.ImportFrom)):
+                for alias in node.names:
+                    names.setdefault((alias.asname or alias.name).split(".")[0], None)
     return [n for n in names if not n.startswith("__rx")]
 
 
@@ -339,7 +425,7 @@ class _SlotLoads(ast.NodeTransformer):
         st = ast.Name(self.state, ast.Load())
         load = ast.IfExp(_call("slotted", st, ast.Constant(node.id)),
                          _call("slot_value", ast.Name(self.state, ast.Load()), ast.Constant(node.id)), node)
-        return ast.fix_missing_locations(ast.copy_location(load, node))
+        return ast.copy_location(load, node)
 
 
 def _def(name: str, params: list[str], body: list) -> ast.FunctionDef:
@@ -353,9 +439,50 @@ def _def(name: str, params: list[str], body: list) -> ast.FunctionDef:
     return ast.FunctionDef(**fields)
 
 
+def _copy(node):
+    """A deep copy of an AST (its nodes and lists; constants and contexts shared): what
+    ``copy.deepcopy`` gives, several times faster."""
+    if isinstance(node, list):
+        return [_copy(item) for item in node]
+    if not isinstance(node, ast.AST) or isinstance(node, ast.expr_context):
+        return node
+    new = node.__class__.__new__(node.__class__)
+    new.__dict__.update({k: _copy(v) for k, v in node.__dict__.items()})
+    return new
+
+
+_LOCATION = ("lineno", "col_offset", "end_lineno", "end_col_offset")
+
+
+def _located_all(tree):
+    """``ast.fix_missing_locations``: each node without a location takes its parent's (one pass,
+    without the generic walkers)."""
+    stack = [(tree, (1, 0, 1, 0))]
+    pop, push = stack.pop, stack.append
+    AST = ast.AST
+    while stack:
+        node, here = pop()
+        fields = node.__dict__
+        if "lineno" in node._attributes:
+            line = fields.get("lineno")
+            if line is None:
+                fields["lineno"], fields["col_offset"], fields["end_lineno"], fields["end_col_offset"] = here
+            else:
+                here = (line, fields["col_offset"], fields.get("end_lineno") or line,
+                        fields.get("end_col_offset") or 0)
+        for value in fields.values():
+            if isinstance(value, list):
+                for item in value:
+                    if isinstance(item, AST):
+                        push((item, here))
+            elif isinstance(value, AST):
+                push((value, here))
+    return tree
+
+
 def _located(node, where):
     """``node`` (new) given ``where``'s source location."""
-    return ast.fix_missing_locations(ast.copy_location(node, where))
+    return ast.copy_location(node, where)
 
 
 def _call(name: str, *args) -> ast.Call:
@@ -405,11 +532,11 @@ class _Rewriter:
             return self.leave(stmt, region)
         if isinstance(stmt, (ast.Break, ast.Continue)) and loop == "run":
             what = "loop_break" if isinstance(stmt, ast.Break) else "loop_continue"
-            return [ast.fix_missing_locations(ast.copy_location(ast.Expr(_call(what)), stmt))]
+            return [ast.copy_location(ast.Expr(_call(what)), stmt)]
         if isinstance(stmt, (ast.Break, ast.Continue)) and loop is None and region is not None:
             word = "break" if isinstance(stmt, ast.Break) else "continue"
-            return [ast.fix_missing_locations(ast.copy_location(ast.Expr(_call("python_loop_exit",
-                                                                                 ast.Constant(word))), stmt))]
+            return [ast.copy_location(ast.Expr(_call("python_loop_exit",
+                                                                                 ast.Constant(word))), stmt)]
         if isinstance(stmt, (ast.For, ast.AsyncFor)):
             stmt.body = self.keep(region, _target_names(stmt.target), stmt) + \
                 self.block(stmt.body, region, "python", in_with)
@@ -433,9 +560,14 @@ class _Rewriter:
             return [stmt]
         if region is None:
             return [stmt]
+        if isinstance(stmt, (ast.Import, ast.ImportFrom, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            bound = [(a.asname or a.name).split(".")[0] for a in stmt.names] \
+                if isinstance(stmt, (ast.Import, ast.ImportFrom)) else [stmt.name]
+            return [stmt] + self.keep(region, bound, stmt)
         targets = stmt.targets if isinstance(stmt, ast.Assign) else [stmt.target] \
             if isinstance(stmt, (ast.AugAssign, ast.AnnAssign)) and getattr(stmt, "value", None) else []
-        guards = [_located(ast.Expr(_call("check_store", t.value, ast.Constant(ast.unparse(t)))), stmt)
+        state = ast.Name(getattr(region, "state", "__rx_st"), ast.Load())
+        guards = [_located(ast.Expr(_call("check_store", state, t.value, ast.Constant(ast.unparse(t)))), stmt)
                   for t in targets if isinstance(t, (ast.Attribute, ast.Subscript))]
         return guards + [stmt] + self.keep(region, [n for t in targets for n in _target_names(t)], stmt)
 
@@ -446,7 +578,7 @@ class _Rewriter:
         state = getattr(region, "state", "__rx_st")
         calls = [ast.Expr(_call("keep", ast.Name(state, ast.Load()), ast.Constant(n), ast.Name(n, ast.Load())))
                  for n in names if n in region]
-        return [ast.fix_missing_locations(ast.copy_location(c, where)) for c in calls]
+        return [ast.copy_location(c, where) for c in calls]
 
     def leave(self, stmt, region) -> list:
         """``return`` at run time: the core's Return (for the lanes that reach it); in a branch or
@@ -456,7 +588,7 @@ class _Rewriter:
                                                stmt.value or ast.Constant(None)))]
         if region is not None and not getattr(region, "inline", False):
             out.append(ast.Return(ast.Attribute(ast.Name("__rt", ast.Load()), "RETURNED", ast.Load())))
-        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+        return [ast.copy_location(s, stmt) for s in out]
 
     def with_group(self, group, region, loop) -> list:
         """A run-time ``with`` chain (If, Elif..., Else) or loop (For, While), its bodies written
@@ -468,8 +600,8 @@ class _Rewriter:
         bound = [n for _, w in group if w.items[0].optional_vars is not None
                  for n in _target_names(w.items[0].optional_vars)]
         names = [n for n in _assigned([s for _, w in group for s in w.body]) if n not in bound]
-        inside = _loads([s for _, w in group for s in w.body])
-        later = [n for n in names if kind == "If" and self.loads.get(n, 0) > inside.get(n, 0)]
+        bodies = [s for _, w in group for s in w.body]
+        later = self.later(names, bodies, None if kind == "If" else bodies)
         inner = _Region(names, state, inline=True)
         first = group[0][1]
         begin = ast.Assign([ast.Name(state, ast.Store())], _call(
@@ -490,31 +622,50 @@ class _Rewriter:
         out.append(_located(ast.Assign([_names(names, ast.Store)], end) if names else ast.Expr(end), group[-1][1]))
         return out + self.keep(region, names, first)
 
-    def run_time(self, stmt, region, kind: str, test_name: str, names: list, fns: list, extra=()) -> list:
+    def later(self, names, inside: list, loop_body: list | None = None) -> list[str]:
+        """Of ``names`` (assigned in the statements ``inside``), those that need a variable: read
+        elsewhere in the function, or (a loop's) carried from one iteration to the next. The
+        others are only used where they are assigned: no variable, no store per lane."""
+        counts = _loads(inside)
+        needed = {n for n in names if self.loads.get(n, 0) > counts.get(n, 0)}
+        if loop_body is not None:
+            needed |= _carried(loop_body)
+        return [n for n in names if n in needed]
+
+    def run_time(self, stmt, region, kind: str, test_name: str, names: list, fns: list, later: list,
+                 extra=(), last=()) -> list:
         """The run-time path: the nested functions, then ``names = __rt.<kind>_stmt(...)`` and what
         it left kept in the region around."""
         before = ast.Tuple([_call("current", _call_locals(), ast.Constant(n)) for n in names], ast.Load())
         merge = _call(f"{kind}_stmt", ast.Constant(self.owner), ast.Name(test_name, ast.Load()), *extra,
-                      ast.Tuple([ast.Constant(n) for n in names], ast.Load()), before,
-                      *[ast.Name(f.name, ast.Load()) for f in fns])
+                      ast.Tuple([ast.Constant(n) for n in names], ast.Load()),
+                      ast.Tuple([ast.Constant(n) for n in later], ast.Load()), before,
+                      *[ast.Name(f.name, ast.Load()) for f in fns], *last)
         out: list[ast.stmt] = list(fns)
         out.append(ast.Assign([_names(names, ast.Store)], merge) if names else ast.Expr(merge))
         return out + self.keep(region, names, stmt)
 
     def if_statement(self, stmt: ast.If, region, loop, in_with) -> list:
+        """``if test:`` -- its branches as functions, called for a Python test as Python would
+        (one of them) and traced both for a DSL one; a branch that can leave (``return``,
+        ``break``, ``continue``) also keeps a copy written in place for a Python test."""
         k = next(self.count)
         cond = f"__rx_cond{k}"
         names = _assigned(stmt.body + stmt.orelse)
-        then_copy, else_copy = copy.deepcopy(stmt.body), copy.deepcopy(stmt.orelse)
+        later = self.later(names, stmt.body + stmt.orelse)
+        leaves = _leaves_early(stmt.body + stmt.orelse)
+        then_copy, else_copy = (_copy(stmt.body), _copy(stmt.orelse)) if leaves else (stmt.body, stmt.orelse)
         static = ast.If(ast.Name(cond, ast.Load()), self.block(stmt.body, region, loop, in_with),
-                        self.block(stmt.orelse, region, loop, in_with) if stmt.orelse else [])
+                        self.block(stmt.orelse, region, loop, in_with) if stmt.orelse else []) if leaves else None
         fns = [_def(f"__rx_{which}{k}", ["__rx_st"] + names,
                     self.block(body, names, "run" if loop == "run" else None, in_with) if body else [ast.Pass()])
                for which, body in (("then", then_copy), ("else", else_copy))]
-        out = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test),
-               ast.If(_call("static", ast.Name(cond, ast.Load())), [static],
-                      self.run_time(stmt, region, "if", cond, names, fns))]
-        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+        outer = ast.Name(getattr(region, "state", "__rx_st"), ast.Load()) if region is not None else ast.Constant(None)
+        run = self.run_time(stmt, region, "if", cond, names, fns, later, last=(outer,))
+        out: list[ast.stmt] = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test)]
+        out += [ast.If(_call("static", ast.Name(cond, ast.Load())), [typing.cast(ast.stmt, static)], run)] \
+            if leaves else run
+        return [ast.copy_location(s, stmt) for s in out]
 
     def while_statement(self, stmt: ast.While, region, loop, in_with) -> list:
         """``while test:`` -- Python's loop while ``test`` is a Python value, else a run-time loop
@@ -522,21 +673,23 @@ class _Rewriter:
         k = next(self.count)
         cond, first = f"__rx_cond{k}", f"__rx_first{k}"
         names = _assigned(stmt.body)
-        body_copy = copy.deepcopy(stmt.body)
+        test = ast.Expr(stmt.test)  # read at every iteration: what it reads is carried
+        later = self.later(names, stmt.body + [test], [test] + stmt.body)
+        body_copy = _copy(stmt.body)
         # Python's own loop, the test evaluated once per iteration (continue included)
         static = [ast.Assign([ast.Name(first, ast.Store())], ast.Constant(True)),
                   ast.While(ast.Constant(True), [
                       ast.If(ast.UnaryOp(ast.Not(), ast.Name(first, ast.Load())),
-                             [ast.Assign([ast.Name(cond, ast.Store())], copy.deepcopy(stmt.test))], []),
+                             [ast.Assign([ast.Name(cond, ast.Store())], _copy(stmt.test))], []),
                       ast.Assign([ast.Name(first, ast.Store())], ast.Constant(False)),
                       ast.If(ast.UnaryOp(ast.Not(), ast.Name(cond, ast.Load())), [ast.Break()], []),
                   ] + self.block(stmt.body, region, "python", in_with), [])]
-        fns = [_def(f"__rx_test{k}", ["__rx_st"] + names, [ast.Return(copy.deepcopy(stmt.test))]),
+        fns = [_def(f"__rx_test{k}", ["__rx_st"] + names, [ast.Return(_copy(stmt.test))]),
                _def(f"__rx_body{k}", ["__rx_st"] + names, self.block(body_copy, names, "run", in_with))]
         out = [ast.Assign([ast.Name(cond, ast.Store())], stmt.test),
                ast.If(_call("static", ast.Name(cond, ast.Load())), static,
-                      self.run_time(stmt, region, "while", cond, names, fns))]
-        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+                      self.run_time(stmt, region, "while", cond, names, fns, later))]
+        return [ast.copy_location(s, stmt) for s in out]
 
     def for_statement(self, stmt: ast.For, region, loop, in_with) -> list:
         """``for i in range(...)`` -- Python's loop over Python ints, else a run-time For (its
@@ -546,19 +699,22 @@ class _Rewriter:
         target = typing.cast(ast.Name, stmt.target).id
         call = typing.cast(ast.Call, _range_call(stmt))
         names = [n for n in _assigned(stmt.body) if n != target]
-        body_copy = copy.deepcopy(stmt.body)
+        later = self.later(names, stmt.body, stmt.body)
+        leaves = _leaves_early(stmt.body)
+        body_copy = stmt.body if leaves else _copy(stmt.body)  # a loop that can leave early is never Python's
         static = ast.For(ast.Name(target, ast.Store()),
                          ast.Call(ast.Name("range", ast.Load()), [ast.Starred(ast.Name(bounds, ast.Load()),
                                                                               ast.Load())], []),
+                         [ast.Pass()] if leaves else
                          self.keep(region, [target], stmt) + self.block(stmt.body, region, "python", in_with), [])
         fns = [_def(f"__rx_body{k}", ["__rx_st", target] + names, self.block(body_copy, names, "run", in_with))]
         gone = ast.Assign([ast.Name(target, ast.Store())], _call("counter_after_loop", ast.Constant(target)))
-        exits = ast.Constant(_leaves_early(stmt.body))
+        exits = ast.Constant(leaves)
         out = [ast.Assign([ast.Name(bounds, ast.Store())], ast.Tuple(call.args, ast.Load())),
                ast.If(_call("static_range", ast.Name(bounds, ast.Load()), exits), [static],
-                      self.run_time(stmt, region, "for", bounds, names, fns) + [gone]
+                      self.run_time(stmt, region, "for", bounds, names, fns, later) + [gone]
                       + self.keep(region, [target], stmt))]
-        return [ast.fix_missing_locations(ast.copy_location(s, stmt)) for s in out]
+        return [ast.copy_location(s, stmt) for s in out]
 
 
 def _range_call(stmt: ast.For) -> ast.Call | None:
@@ -592,11 +748,36 @@ def _leaves_early(statements, nested: bool = False) -> bool:
 def _loads(statements) -> dict[str, int]:
     """How many times each name is read in ``statements`` (nested scopes included)."""
     counts: dict[str, int] = {}
-    for stmt in statements:
-        for node in ast.walk(stmt):
-            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
+    stack = list(statements)
+    Name, AugAssign, Load, AST = ast.Name, ast.AugAssign, ast.Load, ast.AST
+    while stack:
+        node = stack.pop()
+        if type(node) is Name:
+            if type(node.ctx) is Load:
                 counts[node.id] = counts.get(node.id, 0) + 1
+            continue
+        if type(node) is AugAssign and type(node.target) is Name:  # reads it first
+            counts[node.target.id] = counts.get(node.target.id, 0) + 1
+        for value in node.__dict__.values():
+            if isinstance(value, list):
+                stack.extend(item for item in value if isinstance(item, AST))
+            elif isinstance(value, AST):
+                stack.append(value)
     return counts
+
+
+def _carried(statements) -> set[str]:
+    """The names a loop body reads before it assigns them on every path (at its top level): what
+    one iteration hands the next."""
+    assigned: set[str] = set()
+    carried: set[str] = set()
+    for stmt in statements:
+        carried |= set(_loads([stmt])) - assigned
+        if isinstance(stmt, ast.Assign):
+            assigned.update(n for t in stmt.targets for n in _target_names(t))
+        elif isinstance(stmt, ast.AnnAssign) and stmt.value is not None:
+            assigned.update(_target_names(stmt.target))
+    return carried
 
 
 def _target_names(target) -> list[str]:
@@ -699,8 +880,17 @@ class _Runtime:
         return scope[name] if name in scope else _Unset(name)
 
     @staticmethod
-    def if_stmt(owner, cond, names, before, then_fn, else_fn):
-        return _if_stmt(owner, _unhinted(cond), names, before, then_fn, else_fn)
+    def if_stmt(owner, cond, names, later, before, then_fn, else_fn, outer=None):
+        """An ``if``: for a Python condition, the branch it picks, run as Python runs it (the
+        names it assigns are what it left); for a DSL one, both traced (:func:`_if_stmt`)."""
+        cond = _unhinted(cond)
+        if isinstance(cond, _Unset):
+            cond._refuse()
+        if isinstance(cond, Value):
+            return _if_stmt(owner, cond, names, later, before, then_fn, else_fn)
+        state = _PythonState(names, before, outer)
+        (then_fn if cond else else_fn)(state, *before)
+        return tuple(state.values.get(n, old) for n, old in zip(names, before))
 
     @staticmethod
     def keep(state, name: str, value) -> None:
@@ -790,13 +980,13 @@ class _Runtime:
         return not leaves_early and not any(isinstance(b, Value) for b in bounds)
 
     @staticmethod
-    def while_stmt(owner, first_test, names, before, test_fn, body_fn):
+    def while_stmt(owner, first_test, names, later, before, test_fn, body_fn):
         limit = first_test.max_iterations if isinstance(first_test, Hint) else None
-        return _loop(owner, names, before, lambda state, values: flow.while_begin(
+        return _loop(owner, names, later, before, lambda state, values: flow.while_begin(
             lambda: _unhinted(test_fn(state, *values())), max_iterations=limit, lane_exits=True), body_fn)
 
     @staticmethod
-    def for_stmt(owner, bounds, names, before, body_fn):
+    def for_stmt(owner, bounds, names, later, before, body_fn):
         start, stop, step = (0, bounds[0], 1) if len(bounds) == 1 else (bounds[0], bounds[1], 1) \
             if len(bounds) == 2 else bounds
         if not isinstance(step, int) or isinstance(step, bool):
@@ -806,14 +996,13 @@ class _Runtime:
         def begin(state, values):
             block, opened["i"] = flow.for_begin(start, stop, step, lane_exits=True)
             return block
-        return _loop(owner, names, before, begin, lambda state, *vals: body_fn(state, opened["i"], *vals))
+        return _loop(owner, names, later, before, begin, lambda state, *vals: body_fn(state, opened["i"], *vals))
 
     @staticmethod
     def with_state(owner, kind: str, complete: bool, names, later, before):
         """Before a run-time ``with`` chain or loop: the state of the names its bodies assign
         (a name with no value before gets a variable only if in ``later``: read after an If chain)."""
-        state = _State(owner, names, before)
-        state.fresh = set(later)
+        state = _State(owner, names, before, later)
         state.kind, state.complete, state.assigned = kind, complete, set()
         state.entered = False
         return state
@@ -864,7 +1053,9 @@ class _Runtime:
                                f"per lane")
 
     @staticmethod
-    def check_store(obj, target: str) -> None:
+    def check_store(state, obj, target: str) -> None:
+        if isinstance(state, _PythonState) and not state.guard:
+            return  # under Python's conditions only: Python's mutation
         from .variables import PointerValue, is_variable
         from .vectors import _VecVariable
         if is_variable(obj) or isinstance(obj, (PointerValue, _VecVariable)):
@@ -873,13 +1064,25 @@ class _Runtime:
                            f"lane: assign a name instead (it becomes a per-lane variable), or use a Variable")
 
 
+class _PythonState:
+    """The names of an ``if`` on a Python condition, as its branch leaves them. ``guard``: under
+    a run-time condition further out (a Python object mutated there changes every lane)."""
+
+    def __init__(self, names, before, outer) -> None:
+        self.values: dict = {}
+        self.guard: bool = outer is not None and (not isinstance(outer, _PythonState) or outer.guard)
+
+    def keep(self, name: str, value) -> None:
+        self.values[name] = value
+
+
 class _State:
     """The names of one run-time ``if`` or loop. Each name lives in one variable of the function
     (declared at its entry, so it exists on every path), shared by every construct of the body
     that assigns it: an assignment stores there at once, where it runs (per lane under a mask),
     so what a branch assigned before a ``break`` or ``continue`` is not lost."""
 
-    def __init__(self, owner: str, names, before) -> None:
+    def __init__(self, owner: str, names, before, later=None) -> None:
         from .context import body_of
         body = body_of()
         if body is None:
@@ -889,12 +1092,14 @@ class _State:
         self.objects: dict = {}  # name -> the Python object a branch assigned (it cannot differ per lane)
         self.assigned: set = set()  # names the branch being traced assigned
         self.before = dict(zip(names, before))  # what each name held before the construct
-        self.fresh: set | None = None  # the names with no variable yet that may get one (None: all)
+        # the names that may get a variable (None: all): read later, or already one of the body's
+        self.fresh: set | None = None if later is None else \
+            set(later) | {n for n in names if (owner, n) in self.shared}
         self.kind, self.complete = "", False  # a with block's: "If" or a loop; an If chain with Else
         self.branches: list[set] = []  # a with If chain's: the names each branch ended assigned
         self.entered = False  # a with block's: whether a body began
         for name, old in zip(names, before):
-            if _storable(old) and _usable(old):
+            if (self.fresh is None or name in self.fresh) and _storable(old) and _usable(old):
                 self.store(name, old, fresh_if_other_type=True)
 
     def store(self, name: str, value, fresh_if_other_type: bool = False) -> None:
@@ -949,10 +1154,10 @@ def _same_type(slot, value) -> bool:
     return slot.vtype.kind.name == kind
 
 
-def _if_stmt(owner, cond, names, before, then_fn, else_fn):
+def _if_stmt(owner, cond, names, later, before, then_fn, else_fn):
     """Trace both branches of a run-time ``if``; each name then holds, per lane, what that lane's
     branch left in it."""
-    state = _State(owner, names, before)
+    state = _State(owner, names, before, later)
     unset: set = set()
     for which, fn in (("then", then_fn), ("else", else_fn)):
         block = flow.if_begin(cond) if which == "then" else flow.else_begin()
@@ -977,12 +1182,12 @@ def _if_stmt(owner, cond, names, before, then_fn, else_fn):
     return tuple(out)
 
 
-def _loop(owner, names, before, begin, body_fn):
+def _loop(owner, names, later, before, begin, body_fn):
     """A run-time loop: the names its body assigns live in variables declared before it (those
     with a value there), read at the top of each iteration and stored where they are assigned,
     per lane; after the loop each holds its last value (a name first assigned in the body has
     none: the loop may not have run)."""
-    state = _State(owner, names, before)
+    state = _State(owner, names, before, later)
 
     def values():
         return [state.slots[n].value if n in state.slots else old for n, old in zip(names, before)]

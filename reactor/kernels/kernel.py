@@ -99,7 +99,7 @@ class Kernel(ShowsCode):
     def _module(self, body, lines: bool = False) -> tuple[_em.ModuleEmitter, float]:
         """Trace ``body`` into its module: the bodies, the loop and the dispatcher (with the
         user's source line on every instruction if ``lines``)."""
-        body = as_written(body)  # Python's if/while/for on DSL values run at run time
+        body = as_written(body, self.build.cache)  # Python's if/while/for on DSL values run at run time
         build, name, ins, outs = self.build, self.name, self.ins, self.outs
         collecting = gc.isenabled()
         gc.disable()  # tracing makes many objects and frees none: collections there cost, find nothing

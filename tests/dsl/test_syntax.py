@@ -499,3 +499,21 @@ def test_a_plain_while_bounded_by_hint_stops_with_a_message_naming_its_line():
         halve_until_small(np.array([1e6], np.float32))  # 20 halvings needed
     with pytest.raises(DSLTypeError, match="max_iterations must be a positive int"):
         reactor.hint(True, max_iterations=0)
+
+
+SCALE = 3.0
+
+
+@kernel
+def python_branch_objects(x: Float) -> Float:
+    if SCALE > 2.0:                  # Python's condition: its branch runs as Python runs it
+        import math
+        factors = [SCALE, 0.5]
+        factors.append(2.0)          # a Python object changed under a Python condition: fine
+    else:
+        factors = []
+    return x * (factors[0] * factors[2]) + math.sqrt(4.0)
+
+
+def test_a_python_conditions_branch_binds_and_changes_python_objects():
+    assert np.array_equal(python_branch_objects(X), X * np.float32(6) + np.float32(2))
