@@ -11,16 +11,16 @@ is ported. Uniforms: ``resolution`` arrives as two broadcast scalars, ``mouse`` 
 Every pixel marches at most 64 steps, leaves the loop when ``abs(dist) < EPS`` (per lane: the loop
 runs while any lane of the vector is still marching), then a shadow ray of at most 50 steps that
 returns early where it hits, then up to two reflections that stop per pixel when a ray misses. So the
-vector's lanes end their loops at different steps: reactor's execution mask (``For`` + ``If`` +
-``Break`` on masks) does what a GPU's does.
+vector's lanes end their loops at different steps: reactor's execution mask (a loop runs while any
+lane is in it; ``break`` and ``return`` act per lane) does what a GPU's does.
 
-What the port has to spell differently (see README.md): GLSL's early ``return`` inside ``getShadow``'s
-loop becomes a Bool Variable and ``Break`` (``Return`` in an inlined helper would return from the
-kernel); the ``out`` parameters of ``getRayColor`` become a returned tuple; vector Variables are
-assigned with ``.set(...)`` (``+=`` on a ``Variable(vec3)`` rebinds the Python name); ``a ? b : c`` is
-``Select``; GLSL constants of vector type are tuples at module level (``vec3`` needs a build). The
-original reads ``hit`` uninitialized when a ray misses (an ``out bool`` never written): the port
-takes the evident intent, ``hit = false``, as does the float64 reference.
+The port is written as the GLSL is, in plain Python: ``for`` loops with ``break``, ``if``/``else``,
+``getShadow``'s early ``return`` inside its loop, ``a ? b : c`` as ``b if a else c``; on per-lane values
+each acts per pixel (``reactor.syntax``: a loop that can leave early runs at run time). What it spells
+differently: the ``out`` parameters of ``getRayColor`` become a returned tuple, and GLSL constants of
+vector type are tuples at module level (``vec3`` needs a build). The original reads ``hit``
+uninitialized when a ray misses (an ``out bool`` never written): the port takes the evident intent,
+``hit = false``, as does the float64 reference.
 """
 from __future__ import annotations
 
@@ -36,7 +36,7 @@ from shader_common import (  # noqa: E402
 )
 
 import reactor  # noqa: E402
-from reactor import Bool, Break, Else, Float, For, If, Select, Variable, vec2, vec3, vec4  # noqa: E402
+from reactor import Float, vec2, vec3, vec4  # noqa: E402
 from routines import glsl as gl  # noqa: E402
 
 GLSL_LINES = 110
@@ -64,13 +64,13 @@ def floorDist(p):
 
 
 def minVec4(a, b):
-    return Select(a.a < b.a, a, b)
+    return a if a.a < b.a else b
 
 
 def checkeredPattern(p):
     u = 1.0 - gl.floor(gl.mod(p.x, 2.0))
     v = 1.0 - gl.floor(gl.mod(p.z, 2.0))
-    return Select(((u == 1.0) & (v < 1.0)) | ((u < 1.0) & (v == 1.0)), 0.2, 1.0)
+    return 0.2 if (u == 1.0 and v < 1.0) or (u < 1.0 and v == 1.0) else 1.0
 
 
 def hsv2rgb(c):
@@ -103,47 +103,45 @@ def getNormal(p):
 
 
 def getShadow(ro, rd):
-    h = Variable(Float, 0.0)
-    c = Variable(Float, 0.0)
-    r = Variable(Float, 1.0)
+    h = 0.0
+    c = 0.0
+    r = 1.0
     shadowCoef = 0.5
-    returned = Variable(Bool, False)      # GLSL: `return shadowCoef;` inside the loop
-    with For(0, 50):
-        h.set(sceneDist(ro + rd * c))
-        with If(h < EPS):
-            returned.set(True)
-            Break()
-        r.set(gl.min(r, h * 16.0 / c))
+    for t in range(50):
+        h = sceneDist(ro + rd * c)
+        if h < EPS:
+            return shadowCoef
+        r = gl.min(r, h * 16.0 / c)
         c += h
-    return Select(returned, shadowCoef, 1.0 - shadowCoef + r * shadowCoef)
+    return 1.0 - shadowCoef + r * shadowCoef
 
 
 def getRayColor(origin, ray):             # -> color, out p, out normal, out hit
     # marching loop
-    dist = Variable(Float, 0.0)
-    depth = Variable(Float, 0.0)
-    p = Variable(vec3, origin)
-    with For(0, 64):
-        dist.set(sceneDist(p))
+    dist = 0.0
+    depth = 0.0
+    p = origin
+    for i in range(64):
+        dist = sceneDist(p)
         depth += dist
-        p.set(origin + depth * ray)
-        with If(gl.abs(dist) < EPS):
-            Break()
+        p = origin + depth * ray
+        if gl.abs(dist) < EPS:
+            break
 
     # hit check and calc color
-    color = Variable(vec3, 0.0)
-    normal = Variable(vec3, 0.0)
-    hit = Variable(Bool, False)
-    with If(gl.abs(dist) < EPS):
-        normal.set(getNormal(p))
+    color = vec3(0.0)
+    normal = vec3(0.0)
+    hit = False
+    if gl.abs(dist) < EPS:
+        normal = getNormal(p)
         diffuse = gl.clamp(gl.dot(vec3(*lightDir), normal), 0.1, 1.0)
         specular = gl.pow(gl.clamp(gl.dot(gl.reflect(vec3(*lightDir), normal), ray), 0.0, 1.0), 10.0)
         shadow = getShadow(p + normal * OFFSET, vec3(*lightDir))
-        color.set((sceneColor(p).rgb * diffuse + vec3(0.8) * specular) * gl.max(0.5, shadow))
-        hit.set(True)
-    with Else():
-        color.set(vec3(0.0))
-    return color - gl.pow(gl.clamp(0.05 * depth, 0.0, 0.6), 2.0), p.value, normal.value, hit.value
+        color = (sceneColor(p).rgb * diffuse + vec3(0.8) * specular) * gl.max(0.5, shadow)
+        hit = True
+    else:
+        color = vec3(0.0)
+    return color - gl.pow(gl.clamp(0.05 * depth, 0.0, 0.6), 2.0), p, normal, hit
 
 
 def main_image(frag_x: Float, frag_y: Float, res_x: Float, res_y: Float) -> (Float, Float, Float):
@@ -154,23 +152,23 @@ def main_image(frag_x: Float, frag_y: Float, res_x: Float, res_y: Float) -> (Flo
     p = (vec2(frag_x, frag_y) * 2.0 - resolution) / gl.min(resolution.x, resolution.y)
 
     # camera and ray
-    cPos = Variable(vec3, vec3(mouse.x - 0.5, mouse.y * 4.0 - 0.2, time))
+    cPos = vec3(mouse.x - 0.5, mouse.y * 4.0 - 0.2, time)
     cDir = gl.normalize(vec3(0.0, -0.3, 1.0))
     cUp = gl.cross(cDir, vec3(1.0, 0.0, 0.0))
     cSide = gl.cross(cDir, cUp)
     targetDepth = 1.3
-    ray = Variable(vec3, gl.normalize(cSide * p.x + cUp * p.y + cDir * targetDepth))
+    ray = gl.normalize(cSide * p.x + cUp * p.y + cDir * targetDepth)
 
-    color = Variable(vec3, 0.0)
-    alpha = Variable(Float, 1.0)
-    with For(0, 3):
+    color = vec3(0.0)
+    alpha = 1.0
+    for i in range(3):
         c, q, normal, hit = getRayColor(cPos, ray)
-        color.set(color + alpha * c)
+        color += alpha * c
         alpha *= 0.3
-        ray.set(gl.normalize(gl.reflect(ray, normal)))
-        cPos.set(q + normal * OFFSET)
-        with If(~hit):
-            Break()
+        ray = gl.normalize(gl.reflect(ray, normal))
+        cPos = q + normal * OFFSET
+        if not hit:
+            break
     return color.r, color.g, color.b
 # --- DSL port end
 
