@@ -100,9 +100,10 @@ class Lanes:
             mask = both(mask, c)
         if self.returned is not None:
             mask = both(mask, ~self.returned.value)
+        inner = len(self.frames) - 1  # the current loop level
         for call in self.calls:
-            if call.returned is not None:
-                mask = both(mask, ~call.returned.value)
+            if call.returned is not None and not (f.loop is not None and inner >= call.depth):
+                mask = both(mask, ~call.returned.value)  # (a loop opened in the call: its alive has it)
         return mask
 
     def mask_type(self) -> VType:
