@@ -517,3 +517,35 @@ def python_branch_objects(x: Float) -> Float:
 
 def test_a_python_conditions_branch_binds_and_changes_python_objects():
     assert np.array_equal(python_branch_objects(X), X * np.float32(6) + np.float32(2))
+
+
+def test_a_planted_rewrite_in_the_disk_cache_is_never_run(tmp_path, monkeypatch):
+    """The rewrite is kept in the disk cache (authenticated, as compiled kernels are): an entry
+    replaced by other code is a miss, rewritten anew, never executed."""
+    import importlib.util
+    import marshal
+
+    from reactor.dsl import syntax as written
+    from reactor.jit import cache
+
+    monkeypatch.setenv("REACTOR_CACHE_DIR", str(tmp_path / "cache"))
+    source = tmp_path / "planted_body.py"
+    source.write_text("from reactor import Float\n\n\ndef body(x: Float) -> Float:\n"
+                      "    if x > 1.0:\n        return x * 2.0\n    return x\n")
+    spec = importlib.util.spec_from_file_location("planted_body", source)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    x = np.array([0.5, 3.0], np.float32)
+    assert np.array_equal(kernel(module.body, name="planted", cache=True)(x), [0.5, 6.0])
+    entries = list((tmp_path / "cache").glob("*.w"))
+    assert len(entries) == 1
+    evil = compile("import sys\nsys.modules[__name__].PLANTED = True\n", "evil", "exec")
+    entries[0].write_bytes(entries[0].read_bytes()[:40] + marshal.dumps((evil, False, "owner")))
+    written._REWRITES.clear()
+    written._WRITTEN.clear()
+    cache._recipes.clear()
+    cache.memory_clear()
+    for entry in (tmp_path / "cache").glob("*.[or]"):
+        entry.unlink()
+    assert np.array_equal(kernel(module.body, name="planted", cache=True)(x), [0.5, 6.0])
+    assert not getattr(module, "PLANTED", False)
