@@ -19,6 +19,8 @@ from .dsl.intrinsics import (
 )
 from .dsl import flow  # the control-flow core as plain calls, for front ends
 from .dsl.syntax import hint, inline, syntax
+from .spirv import from_glsl, from_spirv
+from .spirv import set_builtins as set_glsl_builtins
 from .dsl.calls import RoutineCall, routine_call, site_choice
 from .dsl.signature import SIMD, Pointer
 from .dsl.textures import ConstantTable, Table, Texture2D, Texture3D
@@ -83,7 +85,7 @@ __all__ = [
     # functions, kernels, threads
     "Function", "function", "Module", "CompiledModule", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
     "configure_threads", "thread_settings", "RoutineCall", "routine_call", "site_choice", "explain",
-    "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow", "hint", "syntax",
+    "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow", "hint", "syntax", "from_glsl", "from_spirv", "set_glsl_builtins",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
     "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",

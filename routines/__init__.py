@@ -18,5 +18,10 @@ from .power import pow  # noqa: A004 - the routine's public name
 from .reciprocal import rcp, rsqrt, sqrt
 from .trig import acos, asin, atan, atan2, cos, cosh, sin, sinh, tan, tanh
 
+from . import glsl as _glsl  # noqa: E402 - after the routines it is made of
+import reactor as _reactor  # noqa: E402
+
+_reactor.set_glsl_builtins(_glsl.BUILTINS)  # what GLSL.std.450 calls in reactor.from_glsl / from_spirv
+
 __all__ = ["exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt", "sin", "cos", "tan", "asin", "acos",
            "atan", "atan2", "sinh", "cosh", "tanh", "jit", "NAMES"]

@@ -21,7 +21,7 @@ LAYERS = {
     "reactor.ir": 1, "reactor.jit": 1,
     "reactor.dsl": 2,
     "reactor.runtime": 3, "reactor.kernels": 3,
-    "reactor.cost": 4, "reactor.explain": 4, "reactor.planner": 4,
+    "reactor.cost": 4, "reactor.explain": 4, "reactor.planner": 4, "reactor.spirv": 4,
     "reactor.cli": 4, "reactor.__main__": 4, "reactor": 4,
 }
 #: Where llvmlite may be imported: behind the seam, and the measurement tools that read optimized IR.

@@ -1,0 +1,38 @@
+"""SPIR-V and GLSL in: real shaders as NumPy ufuncs, translated through reactor's DSL and its
+control-flow core (``translate``), from a binary decoded by the Khronos grammars (``grammar``,
+``binary``); GLSL through glslang (``glsl``). The tools are the ``glsl`` extra."""
+from __future__ import annotations
+
+import os
+import typing
+
+from .binary import SpirvError, decode
+from .grammar import MissingToolError
+from .translate import Translator, kernel_body, set_builtins
+
+__all__ = ["from_spirv", "from_glsl", "SpirvError", "MissingToolError", "set_builtins"]
+
+
+def from_spirv(binary_or_path: bytes | str | os.PathLike, *, uniforms: dict | None = None,
+               name: str | None = None, **options: typing.Any):
+    """A fragment shader's SPIR-V (the bytes, or a file's path) as a kernel: a NumPy ufunc (a
+    gufunc where vectors are involved). Its ``in`` variables, by location, are the inputs (a
+    ``vecN`` as an (..., N) array; ``gl_FragCoord`` last where the shader reads it); its ``out``
+    variables the outputs; the members of its uniform blocks named in ``uniforms`` are build-time
+    constants, the others arguments after the inputs, in declaration order. ``options`` are
+    ``reactor.kernel``'s (``precision=``, ``fma=`` ...)."""
+    from ..kernels.kernel import kernel
+
+    data = binary_or_path if isinstance(binary_or_path, (bytes, bytearray)) else open(binary_or_path, "rb").read()
+    translator = Translator(decode(bytes(data)), uniforms)
+    body = kernel_body(translator)
+    return kernel(body, name=name or translator.entry_name, **options)
+
+
+def from_glsl(source_or_path: str | os.PathLike, stage: str = "fragment", *, uniforms: dict | None = None,
+              name: str | None = None, **options: typing.Any):
+    """A GLSL shader (its text, or a file's path) compiled by glslang to SPIR-V, then as
+    :func:`from_spirv`. A compile error is one ``SpirvError`` with glslang's message (file and line)."""
+    from .glsl import compile_glsl
+
+    return from_spirv(compile_glsl(source_or_path, stage), uniforms=uniforms, name=name, **options)

@@ -1,0 +1,160 @@
+"""GLSL fragment shaders through glslang, SPIR-V and the translator, each checked lane by lane
+against the same shader evaluated per element in NumPy float32 (skipped without the glsl extra)."""
+import numpy as np
+import pytest
+
+import reactor
+import routines  # noqa: F401 - installs the GLSL built-ins
+from reactor.spirv import SpirvError
+from reactor.spirv.glsl import glslang
+from reactor.spirv.grammar import MissingToolError
+
+try:
+    glslang()
+    reactor.spirv.grammar.grammar_directory()
+except MissingToolError as exc:  # pragma: no cover - the glsl extra is optional
+    pytest.skip(str(exc), allow_module_level=True)
+
+F = np.float32
+RNG = np.random.default_rng(7)
+UV = RNG.uniform(-1.5, 1.5, (37, 2)).astype(F)  # a vector loop and a tail
+
+LOOPS = """#version 450
+layout(location = 0) in vec2 uv;
+layout(location = 0) out vec4 color;
+layout(binding = 0) uniform U { float gain; };
+float sq(float x) { return x * x; }
+void main() {
+    float r = length(uv);
+    if (r > 1.0) { color = vec4(0.0); return; }
+    float s = 0.0;
+    for (int i = 0; i < 4; i++) { s += sq(uv.x) * float(i); if (s > 2.0) break; }
+    color = vec4(exp2(r) * gain, s, uv.y, 1.0);
+}
+"""
+
+
+def loops_reference(u, gain):
+    r = F(np.sqrt(F(u[0] * u[0] + u[1] * u[1])))
+    if r > 1:
+        return [0, 0, 0, 0]
+    s = F(0)
+    for i in range(4):
+        s = F(s + F(u[0] * u[0]) * F(i))
+        if s > 2:
+            break
+    return [F(np.exp2(r)) * F(gain), s, u[1], 1]
+
+
+def close(got, want, ulps=2):
+    want = np.asarray(want, F)
+    return np.all(np.abs(got - want) <= ulps * np.spacing(np.abs(want).astype(F)) + 1e-30)
+
+
+def test_a_shader_with_a_helper_an_early_return_and_a_loop_that_breaks():
+    shade = reactor.from_glsl(LOOPS, uniforms={"gain": 2.0})
+    assert shade.signature == "(2)->(4)"
+    got = shade(UV)
+    assert close(got, [loops_reference(u, 2.0) for u in UV])
+
+
+def test_a_uniform_not_given_is_an_argument_after_the_inputs():
+    shade = reactor.from_glsl(LOOPS)
+    got = shade(UV, F(0.5))
+    assert close(got, [loops_reference(u, 0.5) for u in UV])
+
+
+CONTROL = """#version 450
+layout(location = 0) in float x;
+layout(location = 1) in float y;
+layout(location = 0) out float result;
+float steps(float v) {
+    for (int i = 0; i < 8; i++) {
+        if (v > 4.0) return v;          // returns from the helper, per lane
+        v = v * 2.0 + 0.5;
+    }
+    return -v;
+}
+void main() {
+    float acc = 0.0;
+    int k = 0;
+    while (k < 6) {
+        k++;
+        if (mod(float(k), 2.0) == 0.0) continue;
+        if (acc > 3.0 && x > 0.0) break;  // && as glslang writes it: a phi
+        acc += abs(x) + 0.25;
+    }
+    switch (int(y * 2.0 + 3.0)) {
+        case 0: acc = -acc; break;
+        case 1: acc = acc * 0.5; break;
+        default: acc = acc + 1.0; break;
+    }
+    result = acc + steps(y);
+}
+"""
+
+
+def control_reference(x, y):
+    acc, k = F(0), 0
+    while k < 6:
+        k += 1
+        if k % 2 == 0:
+            continue
+        if acc > 3 and x > 0:
+            break
+        acc = F(acc + F(abs(x) + F(0.25)))
+    sel = int(F(y * F(2) + F(3)))
+    acc = -acc if sel == 0 else F(acc * F(0.5)) if sel == 1 else F(acc + F(1))
+    v = y
+    for _ in range(8):
+        if v > 4:
+            return F(acc + v)
+        v = F(F(v * F(2)) + F(0.5))
+    return F(acc - v)
+
+
+def test_continue_break_short_circuit_switch_and_a_helpers_return_in_its_loop():
+    shade = reactor.from_glsl(CONTROL)
+    x, y = UV[:, 0], UV[:, 1]
+    assert np.array_equal(shade(x, y), np.array([control_reference(a, b) for a, b in zip(x, y)], F))
+
+
+VECTORS = """#version 450
+layout(location = 0) in vec3 n;
+layout(location = 0) out vec4 color;
+void main() {
+    vec3 l = normalize(vec3(0.3, 0.8, 0.5));
+    vec3 nn = normalize(n);
+    mat3 m = mat3(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0);
+    vec3 r = reflect(-l, nn);
+    float d = max(dot(nn, l), 0.0);
+    color = vec4(m * nn, 1.0);
+    color.w = d + 0.5 * r.z;
+}
+"""
+
+
+def test_vectors_matrices_swizzles_and_geometric_built_ins():
+    shade = reactor.from_glsl(VECTORS)
+    n = RNG.uniform(-1, 1, (37, 3)).astype(F) + F(0.01)
+    got = shade(n)
+    nn = n / np.sqrt((n * n).sum(1, keepdims=True))
+    l = np.array([0.3, 0.8, 0.5]) / np.sqrt(0.98)
+    r = -l - 2 * (nn @ -l)[:, None] * nn
+    want = np.stack([nn[:, 0], -nn[:, 2], nn[:, 1], np.maximum(nn @ l, 0) + 0.5 * r[:, 2]], 1)
+    assert np.allclose(got, want, rtol=2e-6, atol=2e-6)
+
+
+def test_a_glsl_error_names_the_line_and_an_unsupported_stage_is_refused():
+    with pytest.raises(SpirvError, match=r"glslang could not compile .*:4: .*undeclared"):
+        reactor.from_glsl("#version 450\nlayout(location = 0) out float o;\nvoid main() {\n  o = nope;\n}\n")
+    with pytest.raises(SpirvError, match="only fragment shaders are supported so far"):
+        reactor.from_glsl("#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n", stage="compute")
+
+
+def test_bad_spirv_is_one_clear_error():
+    with pytest.raises(SpirvError, match="not a SPIR-V module"):
+        reactor.from_spirv(b"\x00" * 24)
+    good = reactor.spirv.glsl.compile_glsl(LOOPS)
+    with pytest.raises(SpirvError, match="overruns the module|unknown opcode|more than its grammar"):
+        reactor.from_spirv(good[:20] + b"\xff\xff\xff\x7f" + good[24:])
