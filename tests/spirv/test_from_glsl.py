@@ -158,3 +158,31 @@ def test_bad_spirv_is_one_clear_error():
     good = reactor.spirv.glsl.compile_glsl(LOOPS)
     with pytest.raises(SpirvError, match="overruns the module|unknown opcode|more than its grammar"):
         reactor.from_spirv(good[:20] + b"\xff\xff\xff\x7f" + good[24:])
+
+
+def test_glsl_fbm_runs_unchanged_and_matches_its_hand_port_bit_for_bit():
+    """examples/glsl/fbm2d.frag (yiwenl/glsl-fbm's 2d.glsl, its functions unchanged) against
+    examples/shaders/noise.py, the hand port: every output bit the same (its counted loop is
+    unrolled while building, as the hand port's Python loop is)."""
+    import pathlib
+    import sys
+
+    root = pathlib.Path(__file__).resolve().parents[2]
+    sys.path.insert(0, str(root / "examples" / "shaders"))
+    import noise
+
+    fx, fy, h = noise.inputs(64)
+    shade = reactor.from_glsl(root / "examples" / "glsl" / "fbm2d.frag")
+    assert np.array_equal(shade(fx, fy, h).view(np.uint32), noise.build("full")(fx, fy, h).view(np.uint32))
+
+
+def test_gl_fragcoord_is_the_last_input():
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) in float t;
+layout(location = 0) out vec2 o;
+void main() { o = vec2(gl_FragCoord.x * t, gl_FragCoord.y + gl_FragCoord.w); }
+""")
+    coord = RNG.uniform(0, 100, (37, 4)).astype(F)
+    t = RNG.uniform(0, 1, 37).astype(F)
+    got = shade(t, coord)
+    assert np.array_equal(got, np.stack([coord[:, 0] * t, coord[:, 1] + coord[:, 3]], 1))
