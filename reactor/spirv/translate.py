@@ -336,7 +336,8 @@ class Lazy:
     __slots__ = ("value", "var", "vtype", "name")
 
     def __init__(self, value, vtype, name: str) -> None:
-        self.value, self.var, self.vtype, self.name = value, None, vtype, name
+        self.value, self.vtype, self.name = value, vtype, name
+        self.var: typing.Any = None  # the per-lane Variable, once made
 
     def load(self):
         return self.value if self.var is None else self.var.value
@@ -640,7 +641,7 @@ class Frame:
         """The block that tests a loop that can be unrolled: reached from the header by plain
         branches, its branch leaves to ``merge`` or goes on; and a body that has no exit of its own
         (no break, continue or return). None for any other loop."""
-        block, chain = header, []
+        block, chain = header, []  # type: Block, list[Block]
         while block.terminator.op == "OpBranch" and block.selection_merge is None and len(chain) < 8:
             chain.append(block)
             block = self.fn.blocks[block.terminator.args[0]]
