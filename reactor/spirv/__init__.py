@@ -6,9 +6,9 @@ from __future__ import annotations
 import os
 import typing
 
-from .binary import SpirvError, decode
+from .binary import SpirvError
 from .grammar import MissingToolError
-from .translate import Translator, kernel_body, set_builtins
+from .translate import kernel_body, set_builtins
 
 __all__ = ["from_spirv", "from_glsl", "SpirvError", "MissingToolError", "set_builtins"]
 
@@ -24,8 +24,7 @@ def from_spirv(binary_or_path: bytes | str | os.PathLike, *, uniforms: dict | No
     from ..kernels.kernel import kernel
 
     data = binary_or_path if isinstance(binary_or_path, (bytes, bytearray)) else open(binary_or_path, "rb").read()
-    translator = Translator(decode(bytes(data)), uniforms)
-    body = kernel_body(translator)
+    body, translator = kernel_body(bytes(data), uniforms)
     return kernel(body, name=name or translator.entry_name, **options)
 
 

@@ -1122,16 +1122,37 @@ def _identifier(name: str, taken: list) -> str:
     return base
 
 
-def kernel_body(tr: Translator):
-    """A Python function with the kernel's signature that runs the translation (what
-    ``reactor.kernel`` traces); marked so that the Python rewrite leaves it alone."""
-    names, annotations, result = tr.signature()
+def kernel_body(spirv: bytes, uniforms: dict | None = None):
+    """A Python function with the shader's kernel signature that translates it (what
+    ``reactor.kernel`` traces). It holds only the SPIR-V bytes and the uniforms given, so the disk
+    cache keys a build by them (a warm build does not translate); marked as already written, so the
+    Python rewrite leaves it alone."""
+    from .binary import decode
+
+    translator = Translator(decode(spirv), uniforms)
+    names, annotations, result = translator.signature()
+    given = tuple(sorted((k, _frozen(v)) for k, v in (uniforms or {}).items()))
 
     def body(*args):
-        return tr.body(*args)
+        return run_translation(spirv, given, args)
     setattr(body, "__signature__", inspect.Signature([  # noqa: B010 - what inspect.signature reads
         inspect.Parameter(n, inspect.Parameter.POSITIONAL_OR_KEYWORD) for n in names]))
     body.__annotations__ = dict(annotations, **{"return": result})
-    body.__name__ = tr.entry_name
+    body.__name__ = translator.entry_name
     setattr(body, "__reactor_syntax__", True)  # noqa: B010 - already as written: not rewritten
-    return body
+    return body, translator
+
+
+def run_translation(spirv: bytes, given: tuple, args: tuple):
+    """Translate ``spirv`` (with the uniforms ``given``) into the body being built, on ``args``."""
+    from .binary import decode
+    return Translator(decode(spirv), dict(given)).body(*args)
+
+
+def _frozen(value):
+    """A uniform's value as numbers and tuples (what the build's key can state)."""
+    if isinstance(value, (bool, int, float)):
+        return value
+    if isinstance(value, np.generic):
+        return value.item()
+    return tuple(_frozen(v) for v in value)
