@@ -10,6 +10,7 @@ TARGET names what to print:
 """
 from __future__ import annotations
 
+import os
 import sys
 
 from .build import options
@@ -45,6 +46,15 @@ reactor.plan() from Python."""
 PLAN_EXAMPLES = ("python -m reactor plan examples/plan/scenes.py:srgb_blit --input c=unorm8",
                  "python -m reactor plan examples/plan/scenes.py:exposure --input x=float16 --input stops=-2,-1,0,1,2 "
                  "--output unorm8 --save exposure.plan.json")
+
+
+GLSL = """python -m reactor glsl FILE --size WxH --out IMAGE.png [--shadertoy] [--time T]
+
+Render a GLSL fragment shader over a pixel grid into a PNG (8-bit RGBA, its first output clamped
+to [0, 1]): a shader whose one input is gl_FragCoord, or with --shadertoy a Shadertoy shader
+(mainImage(out vec4, in vec2), iResolution set to the size, iTime to T). Needs the glsl extra."""
+GLSL_EXAMPLES = ("python -m reactor glsl examples/glsl/rings.frag --shadertoy --size 320x180 --out rings.png",
+                 "python -m reactor glsl examples/glsl/rings.frag --shadertoy --size 64x64 --time 2.5 --out rings.png")
 
 
 CACHE = """python -m reactor cache info|clear
@@ -83,6 +93,13 @@ def _parser() -> ArgumentParser:
     plan.add_argument("--samples", type=positive_int, default=1 << 18, metavar="N", help="rows of a sampled check")
     plan.add_argument("--save", metavar="FILE", help="write the plan as JSON (reactor.Plan.load reads it)")
     plan.add_argument("--verbose", action="store_true", help="each build of the search as it is made")
+    glsl = sub.add_parser("glsl", help="render a GLSL fragment shader (or a Shadertoy one) to a PNG",
+                          description=GLSL, examples=GLSL_EXAMPLES)
+    glsl.add_argument("file", help="a GLSL fragment shader")
+    glsl.add_argument("--size", required=True, metavar="WxH", help="the image's width and height in pixels")
+    glsl.add_argument("--out", required=True, metavar="IMAGE", help="the PNG to write")
+    glsl.add_argument("--shadertoy", action="store_true", help="a Shadertoy shader (mainImage)")
+    glsl.add_argument("--time", type=float, default=0.0, metavar="T", help="iTime, seconds (Shadertoy)")
     cache = sub.add_parser("cache", help="show or empty the disk cache of compiled code",
                            description=CACHE, examples=CACHE_EXAMPLES)
     cache.add_argument("action", choices=("info", "clear"), help="info: where, how big, usable; clear: empty it")
@@ -184,6 +201,21 @@ def _explain(args) -> int:
     return 0
 
 
+def _glsl(args) -> int:
+    from .spirv.render import render, write_png
+    try:
+        width, height = (int(v) for v in args.size.lower().split("x"))
+        if width < 1 or height < 1:
+            raise ValueError
+    except ValueError:
+        raise ReactorError(f"--size: WIDTHxHEIGHT in pixels, as 320x180, not {args.size!r}") from None
+    if not os.path.isfile(args.file):
+        raise ReactorError(f"no such file: {args.file}")
+    write_png(args.out, render(args.file, width, height, shadertoy=args.shadertoy, time=args.time))
+    print(f"wrote {args.out} ({width}x{height})")
+    return 0
+
+
 def _main(argv: list[str]) -> int:
     args = _parser().parse_args(argv)
     if args.command == "explain":
@@ -192,6 +224,8 @@ def _main(argv: list[str]) -> int:
         return _plan(args)
     if args.command == "cache":
         return _cache(args.action)
+    if args.command == "glsl":
+        return _glsl(args)
     with options(**build_options(args)):
         print(text(load(args.target), args.what, args.everything))
     return 0

@@ -31,8 +31,18 @@ def from_spirv(binary_or_path: bytes | str | os.PathLike, *, uniforms: dict | No
 def from_glsl(source_or_path: str | os.PathLike, stage: str = "fragment", *, uniforms: dict | None = None,
               name: str | None = None, **options: typing.Any):
     """A GLSL shader (its text, or a file's path) compiled by glslang to SPIR-V, then as
-    :func:`from_spirv`. A compile error is one ``SpirvError`` with glslang's message (file and line)."""
-    from .glsl import compile_glsl
+    :func:`from_spirv`. A compile error is one ``SpirvError`` with glslang's message (file and line).
 
+    ``stage="shadertoy"``: a Shadertoy shader (``void mainImage(out vec4 fragColor, in vec2
+    fragCoord)``), run with no edit through the prelude of :data:`reactor.spirv.glsl.SHADERTOY`:
+    the kernel takes ``fragCoord`` as an (..., 2) array (pixel centres, the origin at the bottom
+    left as in WebGL) and gives ``fragColor``; ``iResolution`` and ``iTime`` are arguments unless
+    ``uniforms`` gives them, ``iTimeDelta``, ``iFrame``, ``iMouse``, ``iDate`` are 0 and
+    ``iSampleRate`` 44100 unless it does."""
+    from .glsl import SHADERTOY_DEFAULTS, compile_glsl, shadertoy_source
+
+    if stage == "shadertoy":
+        source_or_path, stage = shadertoy_source(source_or_path), "fragment"
+        uniforms = {**SHADERTOY_DEFAULTS, **(uniforms or {})}
     spirv = compile_glsl(source_or_path, stage, use_disk=bool(options.get("cache", True)))
     return from_spirv(spirv, uniforms=uniforms, name=name, **options)

@@ -15,6 +15,29 @@ from .grammar import EXTRA, MissingToolError
 
 STAGES = {"fragment": "frag", "compute": "comp", "vertex": "vert"}
 
+#: What a Shadertoy shader is compiled with: its inputs, then its text from line 1, then a main.
+SHADERTOY = """#version 450
+layout(location = 0) in vec2 reactor_fragCoord;
+layout(location = 0) out vec4 reactor_fragColor;
+layout(binding = 0) uniform ShadertoyInputs {
+    vec3 iResolution; float iTime; float iTimeDelta; int iFrame; vec4 iMouse; vec4 iDate; float iSampleRate;
+};
+#line 1
+%s
+void main() { mainImage(reactor_fragColor, reactor_fragCoord); }
+"""
+SHADERTOY_DEFAULTS = {"iTimeDelta": 0.0, "iFrame": 0, "iMouse": (0.0, 0.0, 0.0, 0.0), "iDate": (0.0, 0.0, 0.0, 0.0),
+                      "iSampleRate": 44100.0}
+
+
+def shadertoy_source(source_or_path) -> str:
+    """A Shadertoy shader's text (or a file's) inside :data:`SHADERTOY`."""
+    text = str(source_or_path)
+    if isinstance(source_or_path, os.PathLike) or ("\n" not in text and os.path.isfile(text)):
+        with open(os.fspath(source_or_path), encoding="utf-8") as f:
+            text = f.read()
+    return SHADERTOY % text
+
 
 def glslang() -> tuple[str, dict | None]:
     """The ``glslangValidator`` to run and its environment (None: this process's). The binary of

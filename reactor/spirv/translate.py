@@ -39,6 +39,16 @@ def set_builtins(table: dict[str, typing.Callable]) -> None:
     _BUILTINS.update(table)
 
 
+def builtins_table() -> dict[str, typing.Callable]:
+    """The GLSL built-ins installed; if none yet, those a package declares under the entry point
+    group ``reactor.glsl_builtins`` (``routines`` declares its own), loaded."""
+    if not _BUILTINS:
+        from importlib.metadata import entry_points
+        for point in entry_points(group="reactor.glsl_builtins"):
+            set_builtins(point.load())
+    return _BUILTINS
+
+
 # -- types ----------------------------------------------------------------------------------------
 
 @dataclasses.dataclass(frozen=True)
@@ -1039,13 +1049,14 @@ class Translator:
             raise SpirvError(f"extended instruction set {set_name!r} is not supported (GLSL.std.450 is)")
         name = instructions.by_code[ins.args[1]][0]
         glsl = _GLSL_NAMES.get(name)
-        if glsl is None or glsl not in _BUILTINS:
-            if not _BUILTINS:
+        table = builtins_table()
+        if glsl is None or glsl not in table:
+            if not table:
                 raise SpirvError("GLSL.std.450 instructions need the GLSL built-ins: import routines")
             raise SpirvError(f"GLSL.std.450 {name} is not supported yet")
         options = {"precision": "relaxed"} if "RelaxedPrecision" in self.decl.decorations.get(ins.id, {}) \
             and glsl in _ROUTINES else {}
-        return from_vec(_BUILTINS[glsl](*[to_vec(_dsl(a) if isinstance(a, float) else a) for a in args], **options))
+        return from_vec(table[glsl](*[to_vec(_dsl(a) if isinstance(a, float) else a) for a in args], **options))
 
     def call(self, fr: Frame, ins: Instruction):
         fn = self.decl.functions[ins.args[0]]

@@ -186,3 +186,39 @@ void main() { o = vec2(gl_FragCoord.x * t, gl_FragCoord.y + gl_FragCoord.w); }
     t = RNG.uniform(0, 1, 37).astype(F)
     got = shade(t, coord)
     assert np.array_equal(got, np.stack([coord[:, 0] * t, coord[:, 1] + coord[:, 3]], 1))
+
+
+def test_a_shadertoy_shader_runs_with_no_edit():
+    src = """void mainImage(out vec4 fragColor, in vec2 fragCoord) {
+    vec2 uv = fragCoord / iResolution.xy;
+    fragColor = vec4(0.5 + 0.5 * cos(iTime + uv.xyx + vec3(0, 2, 4)), 1.0);
+}"""
+    shade = reactor.from_glsl(src, stage="shadertoy", uniforms={"iResolution": (64, 32, 1)})
+    assert shade.signature == "(2),()->(4)"  # fragCoord, then iTime
+    from reactor.spirv.render import pixel_centres
+    coord = pixel_centres(64, 32, bottom_left=True)
+    uv = coord / np.array([64, 32], F)
+    want = 0.5 + 0.5 * np.cos(1.0 + np.stack([uv[..., 0], uv[..., 1], uv[..., 0]], -1) + np.array([0, 2, 4]))
+    assert np.abs(shade(coord, F(1.0))[..., :3] - want).max() < 1e-6
+    with pytest.raises(SpirvError, match=r":2: .*undeclared"):  # the user's own line numbers
+        reactor.from_glsl("void mainImage(out vec4 c, in vec2 p) {\n  c = vec4(nope);\n}", stage="shadertoy")
+
+
+def test_the_glsl_command_renders_a_png(tmp_path):
+    import subprocess
+    import sys
+    import zlib
+
+    out = tmp_path / "rings.png"
+    run = subprocess.run([sys.executable, "-m", "reactor", "glsl", "examples/glsl/rings.frag", "--shadertoy",
+                          "--size", "40x20", "--out", str(out)], capture_output=True, text=True, timeout=300,
+                         cwd=__import__("pathlib").Path(__file__).resolve().parents[2])
+    assert run.returncode == 0, run.stderr
+    data = out.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR"
+    width, height = int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+    assert (width, height) == (40, 20)
+    start = data.index(b"IDAT") + 4
+    raw = zlib.decompress(data[start:data.index(b"IEND") - 8])
+    rows = np.frombuffer(raw, np.uint8).reshape(20, 1 + 40 * 4)[:, 1:].reshape(20, 40, 4)
+    assert (rows[10, 20, :3] == 255).all() and rows[..., 3].min() == 255  # the white centre, opaque
