@@ -66,7 +66,12 @@ class Cell:
     def __init__(self, slots, path: tuple = ()) -> None:
         self.slots, self.path = slots, path
 
-    def part(self, indices) -> "Cell":
+    def part(self, indices) -> "Cell | DynamicCell":
+        """The part an access chain selects; an index known only at run time (a DSL Int) gives a
+        :class:`DynamicCell`."""
+        for k, index in enumerate(indices):
+            if isinstance(index, Value):
+                return DynamicCell(Cell(self.slots, self.path + tuple(indices[:k])), index, tuple(indices[k + 1:]))
         return Cell(self.slots, self.path + tuple(indices))
 
     def _at(self):
@@ -107,6 +112,50 @@ class Cell:
             else:
                 raise SpirvError("a store to an input or a uniform")
         write(self._at(), value)
+
+
+class DynamicCell:
+    """``cell[index][rest...]`` with ``index`` a per-lane Int: loads pick, stores go to the element
+    each lane's index names (a select over the elements, as GLSL compilers lower it)."""
+
+    def __init__(self, cell: Cell, index, rest: tuple) -> None:
+        self.cell, self.index, self.rest = cell, index, rest
+
+    def _elements(self) -> list:
+        return [self.cell.part((k,) + self.rest) for k in range(len(self.cell._at()))]
+
+    def part(self, indices) -> "DynamicCell":
+        return DynamicCell(self.cell, self.index, self.rest + tuple(indices))
+
+    def load(self):
+        return pick([e.load() for e in self._elements()], self.index)
+
+    def store(self, value) -> None:
+        from ..dsl.intrinsics import Select
+        for k, element in enumerate(self._elements()):
+            hit = self.index == k
+            element.store(componentwise(lambda v, old: Select(hit, _dsl(v, _kind_of(old)), old), value,
+                                        element.load()))
+
+    def materialize(self) -> None:
+        self.cell.materialize()
+
+
+def pick(items: list, index):
+    """``items[index]`` for a per-lane Int ``index`` (a select chain; an index out of range gives
+    the last item, as no GLSL program may rely on it)."""
+    from ..dsl.intrinsics import Select
+    result = items[-1]
+    for k in range(len(items) - 2, -1, -1):
+        hit = index == k
+        result = componentwise(lambda a, b: Select(hit, _dsl(a, _kind_of(b)), b), items[k], result)
+    return result
+
+
+def _kind_of(v) -> str:
+    if isinstance(v, Value):
+        return v.kind.name
+    return "Bool" if isinstance(v, bool) else "Int" if isinstance(v, int) else "Float"
 
 
 class Lazy:

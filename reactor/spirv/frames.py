@@ -42,7 +42,7 @@ class Frame:
     def __init__(self, tr: "Translator", fn: Function) -> None:
         self.tr, self.fn = tr, fn
         self.values: dict[int, typing.Any] = {}  # id -> flattened value (this block's)
-        self.cells: dict[int, Cell] = {}  # id -> variable (OpVariable, access chains, spilled ids, phis)
+        self.cells: dict[int, typing.Any] = {}  # Cell or DynamicCell  # id -> variable (OpVariable, access chains, spilled ids, phis)
         self.spilled = self._crossing()
         self.base = {ins.id: ins.args[0] for b in fn.blocks.values() for ins in b.body
                      if ins.op in ("OpAccessChain", "OpInBoundsAccessChain")}
@@ -87,7 +87,7 @@ class Frame:
                 self.cells[ins.id] = new_cell(self.tr.decl.types[ins.type], None, self.tr.decl.name(ins.id, "v"))
             self.cells[ins.id].store(value)
 
-    def pointer(self, id_: int) -> Cell:
+    def pointer(self, id_: int) -> typing.Any:  # a Cell or DynamicCell
         if id_ in self.cells and id_ not in self.spilled:
             return self.cells[id_]
         if id_ in self.tr.global_cells:
@@ -154,7 +154,12 @@ class Frame:
             self.leave(self.get(t.args[0]) if t.op == "OpReturnValue" else None, ctx)
             return None
         if t.op in ("OpKill", "OpTerminateInvocation"):
-            raise SpirvError("discard (OpKill) is not supported yet")
+            self.tr.discard()
+            if self.tr.entry is self.fn and ctx.depth == 0:
+                self.result = self.tr.outputs_now()
+            else:
+                flow.return_value(self.tr.outputs_now())  # from the shader, wherever it is
+            return None
         if t.op == "OpUnreachable":
             return None
         if t.op == "OpSwitch":

@@ -21,7 +21,7 @@ import numpy as np
 from ..dsl.inline import inline
 from ..dsl.vectors import Vec
 from .binary import Instruction, Module, SpirvError
-from .cells import Cell, _dsl, componentwise, from_vec, new_cell, to_vec
+from .cells import Cell, _dsl, componentwise, from_vec, new_cell, pick, to_vec
 from .declarations import Declarations, Type, zero
 from .frames import Frame, to_result
 from .instructions import OPS, _dot, _fmul, _insert
@@ -61,6 +61,8 @@ class Translator:
         self.inputs, self.outputs, self.uniform_args = self._interface(interface)
         self.global_cells: dict[int, Cell] = {}
         self.output_cells: list[Cell] = []
+        self.discards = any(b.terminator.op in ("OpKill", "OpTerminateInvocation")
+                            for f in self.decl.functions.values() for b in f.blocks.values())
 
     def _interface(self, interface):
         d = self.decl
@@ -104,6 +106,8 @@ class Translator:
         outs = [typ.dsl() for *_, typ in self.outputs]
         if not outs:
             raise SpirvError("the shader has no output (an 'out' variable with a location)")
+        if self.discards:
+            outs.append(Type("bool").dsl())  # True where the pixel was discarded
         return names, annotations, outs[0] if len(outs) == 1 else tuple(outs)
 
     def body(self, *args):
@@ -131,8 +135,14 @@ class Translator:
             elif storage != "Input":
                 raise SpirvError(f"{storage} variables ({d.name(vid)}) are not supported yet")
         self.output_cells = [self.global_cells[vid] for _, vid, _, _ in self.outputs]
+        if self.discards:
+            self.output_cells.append(new_cell(Type("bool"), False, "discarded"))
         result = Frame(self, self.entry).run()
         return result if result is not None else self.outputs_now()
+
+    def discard(self) -> None:
+        """``discard``: the lanes here end, their ``discarded`` output set."""
+        self.output_cells[-1].store(True)
 
     def outputs_now(self):
         values = [to_result(c.load()) for c in self.output_cells]
@@ -154,8 +164,6 @@ class Translator:
             fr.pointer(ins.args[0]).store(fr.get(ins.args[1]))
         elif op in ("OpAccessChain", "OpInBoundsAccessChain"):
             indices = [fr.get(a) for a in ins.args[1:]]
-            if not all(isinstance(i, int) for i in indices):
-                raise SpirvError("an access chain with an index computed at run time is not supported yet")
             cell = fr.pointer(ins.args[0]).part(indices)
             fr.cells[ins.id] = cell
         elif op == "OpCompositeConstruct":
@@ -171,6 +179,16 @@ class Translator:
             fr.put(ins, value)
         elif op == "OpCompositeInsert":
             fr.put(ins, _insert(fr.get(ins.args[1]), ins.args[2:], fr.get(ins.args[0])))
+        elif op == "OpVectorExtractDynamic":
+            vector, index = fr.get(ins.args[0]), fr.get(ins.args[1])
+            fr.put(ins, vector[index] if isinstance(index, int) else pick(list(vector), index))
+        elif op == "OpVectorInsertDynamic":
+            vector, part, index = fr.get(ins.args[0]), fr.get(ins.args[1]), fr.get(ins.args[2])
+            if isinstance(index, int):
+                fr.put(ins, _insert(part, [index], vector))
+            else:
+                from ..dsl.intrinsics import Select
+                fr.put(ins, tuple(Select(index == k, _dsl(part), _dsl(old)) for k, old in enumerate(vector)))
         elif op == "OpVectorShuffle":
             a, b = fr.get(ins.args[0]), fr.get(ins.args[1])
             both = list(a) + list(b)

@@ -222,3 +222,42 @@ def test_the_glsl_command_renders_a_png(tmp_path):
     raw = zlib.decompress(data[start:data.index(b"IEND") - 8])
     rows = np.frombuffer(raw, np.uint8).reshape(20, 1 + 40 * 4)[:, 1:].reshape(20, 40, 4)
     assert (rows[10, 20, :3] == 255).all() and rows[..., 3].min() == 255  # the white centre, opaque
+
+
+def test_discard_is_a_mask_output_also_from_a_helper():
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) in vec2 uv;
+layout(location = 0) out float o;
+void check(float v) { if (v > 1.0) discard; }
+void main() {
+    o = 1.0;
+    if (uv.x < 0.0) discard;
+    check(uv.y);
+    o = uv.x + uv.y;
+}
+""")
+    color, discarded = shade(UV)
+    want = (UV[:, 0] < 0) | (UV[:, 1] > 1)
+    assert np.array_equal(discarded, want)
+    assert np.array_equal(color[~want], (UV[:, 0] + UV[:, 1])[~want])
+    assert np.all(color[want] == 1.0)  # what the pixel had stored when it was discarded
+
+
+def test_indices_known_only_at_run_time():
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) in float x;
+layout(location = 0) out vec2 o;
+const float table[4] = float[4](0.5, 1.5, 2.5, 3.5);
+void main() {
+    int i = int(clamp(x, 0.0, 3.0));
+    float local[3] = float[3](0.0, 0.0, 0.0);
+    local[i % 3] = x;
+    vec3 v = vec3(10.0, 20.0, 30.0);
+    o = vec2(table[i] + v[i % 3], local[0] + local[1] * 2.0 + local[2] * 4.0);
+}
+""")
+    x = RNG.uniform(-1, 5, 37).astype(F)
+    i = np.clip(x, 0, 3).astype(np.int32)
+    table, v = np.array([0.5, 1.5, 2.5, 3.5], F), np.array([10, 20, 30], F)
+    weight = np.array([1, 2, 4], F)[i % 3]
+    assert np.array_equal(shade(x), np.stack([table[i] + v[i % 3], x * weight], 1))
