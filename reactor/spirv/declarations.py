@@ -152,6 +152,15 @@ class Declarations:
             return Type("pointer", storage=a[0], elem=t[a[1]])
         if op == "OpTypeFunction":
             return Type("function")
+        if op == "OpTypeImage":
+            dims = {"2D": 2, "3D": 3}.get(a[1])
+            if dims is None or a[3] or a[4]:
+                raise SpirvError(f"{a[1]} images (arrayed or multisampled) are not supported (2D and 3D are)")
+            return Type("image", count=dims, elem=t[a[0]])
+        if op == "OpTypeSampledImage":
+            return Type("sampledimage", count=t[a[0]].count, elem=t[a[0]].elem)
+        if op == "OpTypeSampler":
+            return Type("sampler")
         raise SpirvError(f"{op} (SPIR-V word {ins.word}) is not supported")
 
     @staticmethod

@@ -19,7 +19,9 @@ import typing
 import numpy as np
 
 from ..dsl.inline import inline
+from ..dsl.values import value_class
 from ..dsl.vectors import Vec
+from ..ir.types import KINDS, VType
 from .binary import Instruction, Module, SpirvError
 from .cells import Cell, _dsl, componentwise, from_vec, new_cell, pick, to_vec
 from .declarations import Declarations, Type, zero
@@ -48,9 +50,10 @@ def builtins_table() -> dict[str, typing.Callable]:
 class Translator:
     """One module's translation into a kernel body (see the module docstring)."""
 
-    def __init__(self, module: Module, uniforms: dict | None = None) -> None:
+    def __init__(self, module: Module, uniforms: dict | None = None, samplers: dict | None = None) -> None:
         self.decl = Declarations(module)
         self.uniforms = dict(uniforms or {})
+        self.samplers = dict(samplers or {})
         entry = typing.cast(Instruction, self.decl.entry)
         self.model, fn_id, self.entry_name, interface = entry.args[0], entry.args[1], entry.args[2], entry.args[3:]
         if self.model != "Fragment":
@@ -80,6 +83,8 @@ class Translator:
             elif storage == "Output":
                 outputs.append((deco.get("Location", [0])[0], vid, d.name(vid), typ))
         uniform_args = []
+        self.textures = [(vid, d.name(vid), d.types[var.type].elem) for vid, var in d.globals.items()
+                         if var.args[0] == "UniformConstant" and d.types[var.type].elem.kind == "sampledimage"]
         for vid, var in d.globals.items():
             if var.args[0] != "Uniform":
                 continue
@@ -103,6 +108,9 @@ class Translator:
         for _, _, name, typ in self.uniform_args:
             names.append(_identifier(name, names))
             annotations[names[-1]] = typ.dsl()
+        for _, name, typ in self.textures:
+            names.append(_identifier(name, names))
+            annotations[names[-1]] = self._texture_type(name, typ)
         outs = [typ.dsl() for *_, typ in self.outputs]
         if not outs:
             raise SpirvError("the shader has no output (an 'out' variable with a location)")
@@ -119,6 +127,8 @@ class Translator:
             self.global_cells[vid] = Cell(_flatten(args.pop(0)))
         uniform_values: dict[tuple[int, int], typing.Any] = {
             (vid, k): _flatten(args.pop(0)) for vid, k, _, _ in self.uniform_args}
+        for vid, _, _ in self.textures:
+            self.global_cells[vid] = Cell(args.pop(0))  # the texture object, as the sampler's value
         for vid, var in d.globals.items():
             storage, typ = var.args[0], d.types[var.type].elem
             if storage == "Uniform":
@@ -132,13 +142,32 @@ class Translator:
             elif storage in ("Output", "Private"):
                 init = d.constants[var.args[1]] if len(var.args) > 1 else zero(typ)
                 self.global_cells[vid] = new_cell(typ, init, d.name(vid))
-            elif storage != "Input":
+            elif storage != "Input" and vid not in self.global_cells:
                 raise SpirvError(f"{storage} variables ({d.name(vid)}) are not supported yet")
         self.output_cells = [self.global_cells[vid] for _, vid, _, _ in self.outputs]
         if self.discards:
             self.output_cells.append(new_cell(Type("bool"), False, "discarded"))
         result = Frame(self, self.entry).run()
         return result if result is not None else self.outputs_now()
+
+    def _texture_type(self, name: str, typ: Type):
+        """The kernel parameter type of a sampler: ``Texture2D``/``Texture3D`` of float texels (vec4),
+        with the wrap and filter ``samplers={name: (wrap, filter[, texel])}`` names (default clamp,
+        linear; the texel type ``"u8vec4"`` for an 8-bit RGBA array, normalized as GLSL's unorm)."""
+        from ..dsl.textures import FILTERS, WRAPS, Texture2D, Texture3D
+        wrap, filter_, *texel = tuple(self.samplers.get(name, ("clamp", "linear")))
+        if wrap not in WRAPS or filter_ not in FILTERS:
+            raise SpirvError(f"samplers[{name!r}]: (wrap, filter[, texel]) with a wrap of {', '.join(WRAPS)} and a "
+                             f"filter of {', '.join(FILTERS)}, not {self.samplers.get(name)!r}")
+        from ..dsl import vectors
+        family = Texture2D if typ.count == 2 else Texture3D
+        wanted = texel[0] if texel else "vec4"
+        element: typing.Any = getattr(vectors, wanted, None) if "vec" in wanted else None
+        if element is None and wanted in KINDS:
+            element = value_class(VType(KINDS[wanted], 1))
+        if element is None:
+            raise SpirvError(f"samplers[{name!r}]: no texel type {texel[0]!r} (vec4, u8vec4, Float ...)")
+        return family[element, wrap, filter_]
 
     def discard(self) -> None:
         """``discard``: the lanes here end, their ``discarded`` output set."""
@@ -189,6 +218,16 @@ class Translator:
             else:
                 from ..dsl.intrinsics import Select
                 fr.put(ins, tuple(Select(index == k, _dsl(part), _dsl(old)) for k, old in enumerate(vector)))
+        elif op in ("OpImageSampleImplicitLod", "OpImageSampleExplicitLod"):
+            texture, coord = fr.get(ins.args[0]), fr.get(ins.args[1])
+            fr.put(ins, _rgba(from_vec(texture.sample(*coord))))
+        elif op == "OpImageFetch":
+            texture, coord = fr.get(ins.args[0]), fr.get(ins.args[1])
+            fr.put(ins, _rgba(from_vec(texture.fetch(*coord))))
+        elif op in ("OpImageQuerySizeLod", "OpImageQuerySize"):
+            fr.put(ins, tuple(fr.get(ins.args[0]).size))
+        elif op in ("OpImage", "OpSampledImage"):
+            fr.put(ins, fr.get(ins.args[0]))
         elif op == "OpVectorShuffle":
             a, b = fr.get(ins.args[0]), fr.get(ins.args[1])
             both = list(a) + list(b)
@@ -277,6 +316,12 @@ _ROUTINES = {"sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh"
              "log2", "sqrt", "inversesqrt"}
 
 
+def _rgba(texel):
+    """A texel as GLSL's vec4 (missing channels 0, alpha 1)."""
+    channels = list(texel) if isinstance(texel, tuple) else [texel]
+    return tuple(channels + [0.0, 0.0, 1.0][len(channels) - 1:]) if len(channels) < 4 else tuple(channels)
+
+
 def _flatten(arg):
     return tuple(arg._c) if isinstance(arg, Vec) else arg
 
@@ -298,19 +343,20 @@ def _identifier(name: str, taken: list) -> str:
     return base
 
 
-def kernel_body(spirv: bytes, uniforms: dict | None = None):
+def kernel_body(spirv: bytes, uniforms: dict | None = None, samplers: dict | None = None):
     """A Python function with the shader's kernel signature that translates it (what
     ``reactor.kernel`` traces). It holds only the SPIR-V bytes and the uniforms given, so the disk
     cache keys a build by them (a warm build does not translate); marked as already written, so the
     Python rewrite leaves it alone."""
     from .binary import decode
 
-    translator = Translator(decode(spirv), uniforms)
+    translator = Translator(decode(spirv), uniforms, samplers)
     names, annotations, result = translator.signature()
     given = tuple(sorted((k, _frozen(v)) for k, v in (uniforms or {}).items()))
+    states = tuple(sorted((k, tuple(v)) for k, v in (samplers or {}).items()))
 
     def body(*args):
-        return run_translation(spirv, given, args)
+        return run_translation(spirv, given, states, args)
     setattr(body, "__signature__", inspect.Signature([  # noqa: B010 - what inspect.signature reads
         inspect.Parameter(n, inspect.Parameter.POSITIONAL_OR_KEYWORD) for n in names]))
     body.__annotations__ = dict(annotations, **{"return": result})
@@ -319,10 +365,11 @@ def kernel_body(spirv: bytes, uniforms: dict | None = None):
     return body, translator
 
 
-def run_translation(spirv: bytes, given: tuple, args: tuple):
-    """Translate ``spirv`` (with the uniforms ``given``) into the body being built, on ``args``."""
+def run_translation(spirv: bytes, given: tuple, states: tuple, args: tuple):
+    """Translate ``spirv`` (with the uniforms ``given`` and the sampler ``states``) into the body
+    being built, on ``args``."""
     from .binary import decode
-    return Translator(decode(spirv), dict(given)).body(*args)
+    return Translator(decode(spirv), dict(given), dict(states)).body(*args)
 
 
 def _frozen(value):

@@ -261,3 +261,28 @@ void main() {
     table, v = np.array([0.5, 1.5, 2.5, 3.5], F), np.array([10, 20, 30], F)
     weight = np.array([1, 2, 4], F)[i % 3]
     assert np.array_equal(shade(x), np.stack([table[i] + v[i % 3], x * weight], 1))
+
+
+def test_samplers_are_texture_arguments():
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) in vec2 uv;
+layout(location = 0) out vec4 color;
+layout(binding = 1) uniform sampler2D image;
+void main() {
+    ivec2 size = textureSize(image, 0);
+    vec4 filtered = texture(image, uv);
+    vec4 texel = texelFetch(image, ivec2(1, 2), 0);
+    color = vec4(filtered.rg, texel.b, float(size.x * 100 + size.y));
+}
+""", samplers={"image": ("repeat", "linear")})
+    image = RNG.uniform(0, 1, (5, 7, 4)).astype(F)  # H=5, W=7
+    uv = RNG.uniform(-0.5, 1.5, (37, 2)).astype(F)
+    got = shade(uv, image)
+    # the same through the DSL directly: Texture2D[vec4, "repeat", "linear"].sample
+    from reactor import Texture2D, vec2, vec4
+
+    @reactor.kernel
+    def direct(p: vec2, tex: Texture2D[vec4, "repeat", "linear"]) -> vec4:
+        s = tex.sample(p.x, p.y)
+        return vec4(s.x, s.y, tex.fetch(1, 2).z, 705.0)  # textureSize: (W, H) = (7, 5)
+    assert np.array_equal(got, direct(uv, image))
