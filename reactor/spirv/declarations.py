@@ -145,6 +145,8 @@ class Declarations:
             return Type("matrix", count=a[1], elem=t[a[0]])
         if op == "OpTypeStruct":
             return Type("struct", members=tuple(t[m] for m in a))
+        if op == "OpTypeRuntimeArray":
+            return Type("runtimearray", elem=t[a[0]])
         if op == "OpTypeArray":
             return Type("array", count=int(self.constants[a[1]]), elem=t[a[0]])
         if op == "OpTypePointer":

@@ -56,8 +56,10 @@ class Translator:
         self.samplers = dict(samplers or {})
         entry = typing.cast(Instruction, self.decl.entry)
         self.model, fn_id, self.entry_name, interface = entry.args[0], entry.args[1], entry.args[2], entry.args[3:]
-        if self.model != "Fragment":
-            raise SpirvError(f"a {self.model} shader: only fragment shaders are supported so far")
+        if self.model not in ("Fragment", "GLCompute"):
+            raise SpirvError(f"a {self.model} shader: fragment and compute shaders are supported")
+        self.gid_var: int | None = None  # gl_GlobalInvocationID's variable (a compute shader's)
+        self.buffers: list = []  # (binding, variable, member, name, element type): a compute shader's arrays
         self.entry = self.decl.functions[fn_id]
         self.phi_types = {ins.id: ins.type for f in self.decl.functions.values()
                           for b in f.blocks.values() for ins in b.body if ins.op == "OpPhi"}
@@ -75,8 +77,12 @@ class Translator:
             storage, typ = var.args[0], d.types[var.type].elem
             deco = d.decorations.get(vid, {})
             if "BuiltIn" in deco:
-                if deco["BuiltIn"][0] != "FragCoord" or storage != "Input":
-                    raise SpirvError(f"built-in {deco['BuiltIn'][0]} is not supported (gl_FragCoord is)")
+                builtin = deco["BuiltIn"][0]
+                if builtin == "GlobalInvocationId" and self.model == "GLCompute":
+                    self.gid_var = vid
+                    continue
+                if builtin != "FragCoord" or storage != "Input":
+                    raise SpirvError(f"built-in {builtin} is not supported (gl_FragCoord and gl_GlobalInvocationID are)")
                 inputs.append((1 << 30, vid, "gl_FragCoord", typ))
             elif storage == "Input":
                 inputs.append((deco.get("Location", [0])[0], vid, d.name(vid), typ))
@@ -86,6 +92,9 @@ class Translator:
         self.textures = [(vid, d.name(vid), d.types[var.type].elem) for vid, var in d.globals.items()
                          if var.args[0] == "UniformConstant" and d.types[var.type].elem.kind == "sampledimage"]
         for vid, var in d.globals.items():
+            if self._is_buffer(vid):
+                self._buffer(vid)
+                continue
             if var.args[0] != "Uniform":
                 continue
             block = d.types[var.type].elem
@@ -95,7 +104,57 @@ class Translator:
                 name = d.member_names.get((d.pointee[var.type], k), f"{d.name(vid)}.{k}")
                 if name not in self.uniforms:
                     uniform_args.append((vid, k, name, member))
+        if self.model == "GLCompute":  # one invocation per element: each array is an operand
+            self.buffers.sort()
+            written = self._written_members()
+            inputs = [(b, (vid, k), name, typ) for b, vid, k, name, typ in self.buffers]
+            outputs = [(b, (vid, k), name, typ) for b, vid, k, name, typ in self.buffers if (vid, k) in written]
+            if not outputs:
+                raise SpirvError("the compute shader writes no buffer (the kernel would have no output)")
+            return inputs, outputs, uniform_args
         return sorted(inputs), sorted(outputs), uniform_args
+
+    def _is_buffer(self, vid: int) -> bool:
+        var = self.decl.globals[vid]
+        struct_id = self.decl.pointee.get(var.type, 0)
+        return var.args[0] == "StorageBuffer" or var.args[0] == "Uniform" and \
+            "BufferBlock" in self.decl.decorations.get(struct_id, {})
+
+    def _buffer(self, vid: int) -> None:
+        d = self.decl
+        var = d.globals[vid]
+        if self.model != "GLCompute":
+            raise SpirvError(f"buffer {d.name(vid)}: storage buffers are supported in compute shaders")
+        binding = d.decorations.get(vid, {}).get("Binding", [0])[0]
+        block = d.types[var.type].elem
+        for k, member in enumerate(block.members):
+            name = d.member_names.get((d.pointee[var.type], k), f"{d.name(vid)}.{k}")
+            if member.kind != "runtimearray" or not (member.elem.scalar or member.elem.kind == "vector"):
+                raise SpirvError(f"buffer member {name}: only arrays of scalars or vectors (T name[]) are supported, "
+                                 f"one element per invocation")
+            self.buffers.append((binding, vid, k, name, member.elem))
+
+    def _written_members(self) -> set:
+        """The (buffer variable, member) pairs a store reaches."""
+        chains = {}
+        for f in self.decl.functions.values():
+            for b in f.blocks.values():
+                for ins in b.body:
+                    if ins.op in ("OpAccessChain", "OpInBoundsAccessChain"):
+                        chains[ins.id] = (ins.args[0], ins.args[1] if len(ins.args) > 1 else None)
+        written = set()
+        for f in self.decl.functions.values():
+            for b in f.blocks.values():
+                for ins in b.body:
+                    if ins.op != "OpStore":
+                        continue
+                    target, member = ins.args[0], None
+                    while target in chains:
+                        target, index = chains[target]
+                        member = index
+                    if any(vid == target for _, vid, *_ in self.buffers):
+                        written.add((target, self.decl.constants.get(member, member) if member is not None else None))
+        return written
 
     # the kernel ----------------------------------------------------------------------------------
 
@@ -123,7 +182,9 @@ class Translator:
         d = self.decl
         self.global_cells = {}
         args = list(args)
-        for _, vid, _, typ in self.inputs:
+        if self.model == "GLCompute":
+            self._bind_buffers(args)
+        for _, vid, _, typ in self.inputs if self.model != "GLCompute" else ():
             self.global_cells[vid] = Cell(_flatten(args.pop(0)))
         uniform_values: dict[tuple[int, int], typing.Any] = {
             (vid, k): _flatten(args.pop(0)) for vid, k, _, _ in self.uniform_args}
@@ -131,6 +192,8 @@ class Translator:
             self.global_cells[vid] = Cell(args.pop(0))  # the texture object, as the sampler's value
         for vid, var in d.globals.items():
             storage, typ = var.args[0], d.types[var.type].elem
+            if vid in self.global_cells:
+                continue  # bound above (a buffer, a sampler)
             if storage == "Uniform":
                 sid = d.pointee[var.type]
                 members = []
@@ -144,11 +207,28 @@ class Translator:
                 self.global_cells[vid] = new_cell(typ, init, d.name(vid))
             elif storage != "Input" and vid not in self.global_cells:
                 raise SpirvError(f"{storage} variables ({d.name(vid)}) are not supported yet")
-        self.output_cells = [self.global_cells[vid] for _, vid, _, _ in self.outputs]
+        self.output_cells = [self.global_cells[vid] for _, vid, _, _ in self.outputs] \
+            if self.model != "GLCompute" else [self.elements[key] for _, key, _, _ in self.outputs]
         if self.discards:
             self.output_cells.append(new_cell(Type("bool"), False, "discarded"))
         result = Frame(self, self.entry).run()
         return result if result is not None else self.outputs_now()
+
+    def _bind_buffers(self, args: list) -> None:
+        """A compute shader's arrays: element ``gl_GlobalInvocationID.x`` of each is this lane's
+        operand (a variable, holding the input, where the shader writes it)."""
+        written = {key for _, key, _, _ in self.outputs}
+        self.elements = {}
+        members: dict[int, dict] = {}
+        for _, vid, k, name, typ in self.buffers:
+            value = _flatten(args.pop(0))
+            cell = new_cell(typ, value, name) if (vid, k) in written else Cell(value)
+            self.elements[vid, k] = cell
+            members.setdefault(vid, {})[k] = Elementwise(cell.slots, name)
+        for vid, parts in members.items():
+            self.global_cells[vid] = Cell(tuple(parts[k] for k in sorted(parts)))
+        if self.gid_var is not None:
+            self.global_cells[self.gid_var] = Cell((INVOCATION, 0, 0))
 
     def _texture_type(self, name: str, typ: Type):
         """The kernel parameter type of a sampler: ``Texture2D``/``Texture3D`` of float texels (vec4),
@@ -314,6 +394,42 @@ _GLSL_NAMES = {
 }
 _ROUTINES = {"sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "pow", "exp", "log", "exp2",
              "log2", "sqrt", "inversesqrt"}
+
+
+class _Invocation:
+    """``gl_GlobalInvocationID.x``: each lane's element; only an index into the buffers."""
+
+    def _refuse(self, *args):
+        raise SpirvError("gl_GlobalInvocationID.x is supported as the index of a buffer's element only (one "
+                         "invocation per element); arithmetic on it, or a comparison, is not yet")
+
+    __int__ = __index__ = __float__ = __bool__ = __add__ = __radd__ = __sub__ = __mul__ = _refuse
+    __lt__ = __le__ = __gt__ = __ge__ = _refuse
+
+    def __repr__(self) -> str:
+        return "gl_GlobalInvocationID.x"
+
+
+INVOCATION = _Invocation()
+
+
+class Elementwise:
+    """A buffer's array as a compute shader sees it: only the element of its own invocation."""
+
+    def __init__(self, element, name: str) -> None:
+        self.element, self.name = element, name
+
+    def __getitem__(self, index):
+        if index is not INVOCATION:
+            raise SpirvError(f"buffer {self.name} is indexed by something other than gl_GlobalInvocationID.x: one "
+                             f"invocation per element reads and writes its own element only")
+        return self.element
+
+    def __len__(self) -> int:
+        raise SpirvError(f"buffer {self.name}: an index known only at run time is not supported")
+
+    def __iter__(self):
+        return iter(())
 
 
 def _rgba(texel):

@@ -148,8 +148,8 @@ def test_vectors_matrices_swizzles_and_geometric_built_ins():
 def test_a_glsl_error_names_the_line_and_an_unsupported_stage_is_refused():
     with pytest.raises(SpirvError, match=r"glslang could not compile .*:4: .*undeclared"):
         reactor.from_glsl("#version 450\nlayout(location = 0) out float o;\nvoid main() {\n  o = nope;\n}\n")
-    with pytest.raises(SpirvError, match="only fragment shaders are supported so far"):
-        reactor.from_glsl("#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n", stage="compute")
+    with pytest.raises(SpirvError, match="a Vertex shader: fragment and compute shaders are supported"):
+        reactor.from_glsl("#version 450\nvoid main() { gl_Position = vec4(0.0); }\n", stage="vertex")
 
 
 def test_bad_spirv_is_one_clear_error():
@@ -286,3 +286,35 @@ void main() {
         s = tex.sample(p.x, p.y)
         return vec4(s.x, s.y, tex.fetch(1, 2).z, 705.0)  # textureSize: (W, H) = (7, 5)
     assert np.array_equal(got, direct(uv, image))
+
+
+COMPUTE = """#version 450
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) buffer Data { float values[]; };
+layout(std430, binding = 1) buffer Out { float result[]; };
+layout(binding = 2) uniform Params { float scale; };
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    float v = values[i];
+    if (v < 0.0) { result[i] = 0.0; return; }
+    result[i] = sqrt(v) * scale;
+    values[i] = v + 1.0;
+}
+"""
+
+
+def test_a_compute_shader_is_one_invocation_per_element():
+    shade = reactor.from_glsl(COMPUTE, stage="compute")
+    assert (shade.nin, shade.nout) == (3, 2)  # values, result, scale -> values, result
+    v = RNG.uniform(-2, 10, 37).astype(F)
+    values, result = shade(v, np.zeros_like(v), F(3))
+    assert np.array_equal(values, np.where(v < 0, v, v + F(1)))
+    assert np.array_equal(result, np.where(v < 0, F(0), np.sqrt(np.abs(v)) * F(3)))
+    data = v.copy()
+    shade(data, np.zeros_like(v), F(3), out=(data, np.empty_like(v)))  # in place, as the shader updates it
+    assert np.array_equal(data, values)
+
+
+def test_a_buffer_read_elsewhere_than_its_own_element_is_refused():
+    with pytest.raises(SpirvError, match="arithmetic on it, or a comparison, is not yet"):
+        reactor.from_glsl(COMPUTE.replace("float v = values[i];", "float v = values[i + 1u];"), stage="compute")
