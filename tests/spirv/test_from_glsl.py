@@ -318,3 +318,17 @@ def test_a_compute_shader_is_one_invocation_per_element():
 def test_a_buffer_read_elsewhere_than_its_own_element_is_refused():
     with pytest.raises(SpirvError, match="arithmetic on it, or a comparison, is not yet"):
         reactor.from_glsl(COMPUTE.replace("float v = values[i];", "float v = values[i + 1u];"), stage="compute")
+
+
+def test_products_and_sums_are_rounded_apart_as_precise_asks():
+    """GLSL's precise (SPIR-V NoContraction): a * b - c * d is two roundings of products and one of
+    the difference, never a fused multiply-add, also in a build with fma on (which only lets the
+    routines fuse)."""
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) in vec4 v;
+layout(location = 0) out float o;
+void main() { precise float r = v.x * v.y - v.z * v.w; o = r; }
+""", fma=True)
+    v = RNG.uniform(-1, 1, (4096, 4)).astype(F)
+    want = v[:, 0] * v[:, 1] - v[:, 2] * v[:, 3]  # NumPy float32: each operation rounded
+    assert np.array_equal(shade(v), want)
