@@ -14,7 +14,8 @@ __all__ = ["from_spirv", "from_glsl", "SpirvError", "MissingToolError", "set_bui
 
 
 def from_spirv(binary_or_path: bytes | str | os.PathLike, *, uniforms: dict | None = None,
-               samplers: dict | None = None, name: str | None = None, **options: typing.Any):
+               samplers: dict | None = None, name: str | None = None, validate: bool = True,
+               **options: typing.Any):
     """A fragment shader's SPIR-V (the bytes, or a file's path) as a kernel: a NumPy ufunc (a
     gufunc where vectors are involved). Its ``in`` variables, by location, are the inputs (a
     ``vecN`` as an (..., N) array; ``gl_FragCoord`` last where the shader reads it); its ``out``
@@ -22,10 +23,14 @@ def from_spirv(binary_or_path: bytes | str | os.PathLike, *, uniforms: dict | No
     constants, the others arguments after the inputs, in declaration order; then each
     ``sampler2D``/``sampler3D`` is a ``Texture2D``/``Texture3D`` argument (an (H, W, C) or (D, H, W, C)
     array) with the wrap and filter ``samplers={name: (wrap, filter)}`` names (default clamp,
-    linear). ``options`` are ``reactor.kernel``'s (``precision=``, ``fma=`` ...)."""
+    linear). The module is checked by ``spirv-val`` first where SPIRV-Tools is installed
+    (``validate=False``: not). ``options`` are ``reactor.kernel``'s (``precision=``, ``fma=`` ...)."""
     from ..kernels.kernel import kernel
+    from .glsl import validate as spirv_val
 
     data = binary_or_path if isinstance(binary_or_path, (bytes, bytearray)) else open(binary_or_path, "rb").read()
+    if validate:
+        spirv_val(bytes(data))
     body, translator = kernel_body(bytes(data), uniforms, samplers)
     return kernel(body, name=name or translator.entry_name, **options)
 
@@ -47,4 +52,4 @@ def from_glsl(source_or_path: str | os.PathLike, stage: str = "fragment", *, uni
         source_or_path, stage = shadertoy_source(source_or_path), "fragment"
         uniforms = {**SHADERTOY_DEFAULTS, **(uniforms or {})}
     spirv = compile_glsl(source_or_path, stage, use_disk=bool(options.get("cache", True)))
-    return from_spirv(spirv, uniforms=uniforms, samplers=samplers, name=name, **options)
+    return from_spirv(spirv, uniforms=uniforms, samplers=samplers, name=name, validate=False, **options)

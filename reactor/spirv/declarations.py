@@ -38,6 +38,7 @@ class Type:
 
 
 _KIND = {"float": "Float", "int": "Int", "bool": "Bool"}
+MAX_ARRAY = 4096  # elements of a shader's array (each one is a value, or a variable, of every lane)
 
 
 # -- the module's declarations --------------------------------------------------------------------
@@ -139,16 +140,20 @@ class Declarations:
             if a[0] != 32:
                 raise SpirvError(f"{a[0]}-bit floats are not supported (32-bit are)")
             return Type("float", 32)
-        if op == "OpTypeVector":
-            return Type("vector", count=a[1], elem=t[a[0]])
-        if op == "OpTypeMatrix":
-            return Type("matrix", count=a[1], elem=t[a[0]])
+        if op in ("OpTypeVector", "OpTypeMatrix"):
+            if not 2 <= a[1] <= 4:
+                raise SpirvError(f"{op} (SPIR-V word {ins.word}) of {a[1]} components (2 to 4 are valid)")
+            return Type("vector" if op == "OpTypeVector" else "matrix", count=a[1], elem=t[a[0]])
         if op == "OpTypeStruct":
             return Type("struct", members=tuple(t[m] for m in a))
         if op == "OpTypeRuntimeArray":
             return Type("runtimearray", elem=t[a[0]])
         if op == "OpTypeArray":
-            return Type("array", count=int(self.constants[a[1]]), elem=t[a[0]])
+            count = self.constants[a[1]]
+            if not isinstance(count, int) or not 1 <= count <= MAX_ARRAY:
+                raise SpirvError(f"an array of {count} elements (SPIR-V word {ins.word}): 1 to {MAX_ARRAY} are "
+                                 f"supported (each element is a value of every lane)")
+            return Type("array", count=count, elem=t[a[0]])
         if op == "OpTypePointer":
             self.pointee[ins.id] = a[1]
             return Type("pointer", storage=a[0], elem=t[a[1]])

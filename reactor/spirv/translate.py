@@ -14,6 +14,7 @@ a variable. GLSL.std.450 instructions call the built-ins installed with :func:`s
 from __future__ import annotations
 
 import inspect
+import struct
 import typing
 
 import numpy as np
@@ -22,6 +23,7 @@ from ..dsl.inline import inline
 from ..dsl.values import value_class
 from ..dsl.vectors import Vec
 from ..ir.types import KINDS, VType
+from ..errors import ReactorError
 from .binary import Instruction, Module, SpirvError
 from .cells import Cell, _dsl, componentwise, from_vec, new_cell, pick, to_vec
 from .declarations import Declarations, Type, zero
@@ -466,8 +468,8 @@ def kernel_body(spirv: bytes, uniforms: dict | None = None, samplers: dict | Non
     Python rewrite leaves it alone."""
     from .binary import decode
 
-    translator = Translator(decode(spirv), uniforms, samplers)
-    names, annotations, result = translator.signature()
+    translator = malformed_is_an_error(lambda: Translator(decode(spirv), uniforms, samplers))
+    names, annotations, result = malformed_is_an_error(translator.signature)
     given = tuple(sorted((k, _frozen(v)) for k, v in (uniforms or {}).items()))
     states = tuple(sorted((k, tuple(v)) for k, v in (samplers or {}).items()))
 
@@ -485,7 +487,19 @@ def run_translation(spirv: bytes, given: tuple, states: tuple, args: tuple):
     """Translate ``spirv`` (with the uniforms ``given`` and the sampler ``states``) into the body
     being built, on ``args``."""
     from .binary import decode
-    return Translator(decode(spirv), dict(given), dict(states)).body(*args)
+    return malformed_is_an_error(lambda: Translator(decode(spirv), dict(given), dict(states)).body(*args))
+
+
+def malformed_is_an_error(step):
+    """``step()``, where a module that refers to what it never declares (an id, a type, a block),
+    or nests without end, is one ``SpirvError`` (spirv-val, when installed, catches these first)."""
+    try:
+        return step()
+    except ReactorError:
+        raise
+    except (KeyError, IndexError, AttributeError, TypeError, ValueError, RecursionError, struct.error) as exc:
+        detail = f"%{exc.args[0]} is not declared" if isinstance(exc, KeyError) else f"{type(exc).__name__}: {exc}"
+        raise SpirvError(f"malformed SPIR-V module: {detail}") from None
 
 
 def _frozen(value):
