@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 import typing
 
-from .binary import SpirvError
+from .binary import SpirvError, decode
 from .grammar import MissingToolError
 from .translate import kernel_body, set_builtins
 
@@ -30,6 +30,7 @@ def from_spirv(binary_or_path: bytes | str | os.PathLike, *, uniforms: dict | No
 
     data = binary_or_path if isinstance(binary_or_path, (bytes, bytearray)) else open(binary_or_path, "rb").read()
     if validate:
+        decode(bytes(data))  # our own message for what is no SPIR-V at all, then the validator's
         spirv_val(bytes(data))
     body, translator = kernel_body(bytes(data), uniforms, samplers)
     return kernel(body, name=name or translator.entry_name, **options)
