@@ -31,12 +31,15 @@ SHADERTOY_DEFAULTS = {"iTimeDelta": 0.0, "iFrame": 0, "iMouse": (0.0, 0.0, 0.0, 
 
 
 def shadertoy_source(source_or_path) -> str:
-    """A Shadertoy shader's text (or a file's) inside :data:`SHADERTOY`."""
+    """A Shadertoy shader's text (or a file's) inside :data:`SHADERTOY`, with a ``sampler2D
+    iChannelN`` for each channel it names (a texture argument after the others)."""
     text = str(source_or_path)
     if isinstance(source_or_path, os.PathLike) or ("\n" not in text and os.path.isfile(text)):
         with open(os.fspath(source_or_path), encoding="utf-8") as f:
             text = f.read()
-    return SHADERTOY % text
+    channels = "".join(f"layout(binding = {1 + n}) uniform sampler2D iChannel{n};\n" for n in range(4)
+                       if f"iChannel{n}" in text)
+    return SHADERTOY.replace("#line 1\n", channels + "#line 1\n") % text
 
 
 def glslang() -> tuple[str, dict | None]:

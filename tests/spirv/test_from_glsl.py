@@ -332,3 +332,15 @@ void main() { precise float r = v.x * v.y - v.z * v.w; o = r; }
     v = RNG.uniform(-1, 1, (4096, 4)).astype(F)
     want = v[:, 0] * v[:, 1] - v[:, 2] * v[:, 3]  # NumPy float32: each operation rounded
     assert np.array_equal(shade(v), want)
+
+
+def test_a_shadertoy_channel_is_a_texture_argument():
+    shade = reactor.from_glsl("""void mainImage(out vec4 fragColor, in vec2 fragCoord) {
+    fragColor = texture(iChannel0, fragCoord / iResolution.xy) * 0.5;
+}""", stage="shadertoy", uniforms={"iResolution": (8, 4, 1), "iTime": 0.0}, samplers={"iChannel0": ("clamp", "nearest")})
+    from reactor.spirv.render import pixel_centres
+    image = RNG.uniform(0, 1, (4, 8, 4)).astype(F)
+    got = shade(pixel_centres(8, 4, bottom_left=True), image)
+    # fragCoord.y counts from the bottom and v = 0 is the array's first row: the render is the array
+    # upside down (Shadertoy flips images on upload: pass np.flipud(image) to see one upright)
+    assert np.array_equal(got, image[::-1] * F(0.5))
