@@ -74,6 +74,7 @@ class Declarations:
         self.globals: dict[int, Instruction] = {}
         self.functions: dict[int, Function] = {}
         self.imports: dict[int, str] = {}
+        self.strings: dict[int, str] = {}  # OpString: the source file names OpLine refers to
         self.entry: Instruction | None = None
         self.capabilities: list[str] = []
         current: list[Instruction] | None = None
@@ -103,6 +104,8 @@ class Declarations:
             self.entry = self.entry or ins
         elif op == "OpExtInstImport":
             self.imports[ins.id] = a[0]
+        elif op == "OpString":
+            self.strings[ins.id] = a[0]
         elif op == "OpCapability":
             self.capabilities.append(a[0])
         elif op.startswith("OpType"):
@@ -119,7 +122,7 @@ class Declarations:
             self.constants[ins.id] = zero(self.types[ins.type])
         elif op == "OpVariable":
             self.globals[ins.id] = ins
-        elif op in ("OpMemberDecorate", "OpSource", "OpSourceExtension", "OpSourceContinued", "OpString",
+        elif op in ("OpMemberDecorate", "OpSource", "OpSourceExtension", "OpSourceContinued",
                     "OpLine", "OpNoLine", "OpExtension", "OpMemoryModel", "OpExecutionMode", "OpModuleProcessed",
                     "OpExecutionModeId", "OpDecorateString", "OpMemberDecorateString"):
             pass

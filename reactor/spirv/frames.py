@@ -9,6 +9,7 @@ from ..dsl import flow
 from ..dsl.control import Return
 from ..dsl.values import value_class
 from ..ir.types import KINDS, VType
+from ..errors import ReactorError
 from .binary import Instruction, SpirvError
 from .cells import Cell, _dsl, new_cell, to_vec
 from .declarations import Block, Function, Type
@@ -118,12 +119,23 @@ class Frame:
                 continue
             self.values = {}
             for ins in block.body:
-                self.tr.instruction(self, ins)
+                self.translate(ins)
             self._phi_stores(label)
             nxt = self.terminate(block, ctx)
             if nxt is None:
                 return
             label = nxt
+
+    def translate(self, ins: Instruction) -> None:
+        """One instruction; a mistake it raises is reported at the shader's line where there is one."""
+        try:
+            self.tr.instruction(self, ins)
+        except ReactorError as exc:
+            where = self.tr.location
+            if where is None or exc.location == where:
+                raise
+            problem = exc.problem if ins.op in exc.problem else f"{exc.problem} ({ins.op})"
+            raise SpirvError(problem, location=where) from None
 
     def _phi_stores(self, label: int) -> None:
         for phi, incoming in self.phis.get(label, ()):
@@ -267,7 +279,7 @@ class Frame:
         # the header's own instructions, then the body up to the continue target
         self.values = {}
         for ins in header.body:
-            self.tr.instruction(self, ins)
+            self.translate(ins)
         self._phi_stores(header.label)
         nxt = self.terminate_header(header, inner)
         if nxt is not None and nxt != cont:
@@ -318,7 +330,7 @@ class Frame:
             while True:
                 self.values = {}
                 for ins in block.body:
-                    self.tr.instruction(self, ins)
+                    self.translate(ins)
                 self._phi_stores(block.label)
                 if block is test:
                     break

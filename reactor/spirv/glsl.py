@@ -101,7 +101,7 @@ def compile_glsl(source_or_path, stage: str = "fragment", use_disk: bool = True)
     else:
         source = text
     tool, env = glslang()
-    key = "s" + hashlib.sha256(repr((tool, stage, source)).encode()).hexdigest()[:40]
+    key = "s" + hashlib.sha256(repr((tool, stage, source, "-g")).encode()).hexdigest()[:40]
     if use_disk:
         found = cache.disk_get(key, ".s")
         if found is not None:
@@ -120,7 +120,7 @@ def _run_glslang(tool: str, env, path, source: str, stage: str) -> bytes:
             with open(src, "w", encoding="utf-8") as f:
                 f.write(source)
         out = os.path.join(tmp, "shader.spv")
-        run = subprocess.run([tool, "-V", "-S", STAGES[stage], "-o", out, src], capture_output=True,
+        run = subprocess.run([tool, "-V", "-g", "-S", STAGES[stage], "-o", out, src], capture_output=True,
                              text=True, timeout=120, env=env)
         if run.returncode != 0:
             lines = [line for line in (run.stdout + run.stderr).splitlines()

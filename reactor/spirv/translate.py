@@ -56,6 +56,7 @@ class Translator:
         self.decl = Declarations(module)
         self.uniforms = dict(uniforms or {})
         self.samplers = dict(samplers or {})
+        self.location: tuple[str, int] | None = None  # the shader's (file, line) being translated (OpLine)
         entry = typing.cast(Instruction, self.decl.entry)
         self.model, fn_id, self.entry_name, interface = entry.args[0], entry.args[1], entry.args[2], entry.args[3:]
         if self.model not in ("Fragment", "GLCompute"):
@@ -180,7 +181,12 @@ class Translator:
         return names, annotations, outs[0] if len(outs) == 1 else tuple(outs)
 
     def body(self, *args):
-        """The kernel's body: bind inputs, uniforms and outputs, translate main."""
+        """The kernel's body: bind inputs, uniforms and outputs, translate main. What it emits is
+        located at the shader's lines (``OpLine``: glslang writes them), for errors and ``explain``."""
+        from ..ir import emitter as _em
+        em = _em.current()
+        python_location = em.locate
+        em.locate = lambda: self.location or (python_location() if python_location else None)
         d = self.decl
         self.global_cells = {}
         args = list(args)
@@ -337,7 +343,9 @@ class Translator:
             fr.put(ins, self.call(fr, ins))
         elif op == "OpPhi":
             fr.values[ins.id] = fr.cells[ins.id].load() if ins.id in fr.cells else fr.get(ins.args[0])
-        elif op in ("OpLine", "OpNoLine", "OpNop", "OpFunctionParameter"):
+        elif op == "OpLine":
+            self.location = (_source_name(self.decl.strings.get(ins.args[0], "")), ins.args[1])
+        elif op in ("OpNoLine", "OpNop", "OpFunctionParameter"):
             pass
         else:
             raise SpirvError(f"{op} (SPIR-V word {ins.word}) is not supported yet")
@@ -432,6 +440,11 @@ class Elementwise:
 
     def __iter__(self):
         return iter(())
+
+
+def _source_name(path: str) -> str:
+    """A shader file's name for messages (GLSL text given inline was compiled from a temporary file)."""
+    return "<GLSL source>" if "reactor-glsl-" in path else path
 
 
 def _rgba(texel):

@@ -344,3 +344,28 @@ def test_a_shadertoy_channel_is_a_texture_argument():
     # fragCoord.y counts from the bottom and v = 0 is the array's first row: the render is the array
     # upside down (Shadertoy flips images on upload: pass np.flipud(image) to see one upright)
     assert np.array_equal(got, image[::-1] * F(0.5))
+
+
+def test_a_translation_error_names_the_shaders_line(tmp_path):
+    shader = tmp_path / "wide.frag"
+    shader.write_text("""#version 450
+layout(location = 0) in vec2 uv;
+layout(location = 0) out float o;
+void main() {
+    float big[8000];
+    big[0] = uv.x;
+    o = big[0];
+}
+""")
+    with pytest.raises(SpirvError, match="an array of 8000 elements"):
+        reactor.from_glsl(shader)
+    shader.write_text("""#version 450
+layout(location = 0) in vec2 uv;
+layout(location = 0) out float o;
+void main() {
+    o = uv.x;
+    o += dFdx(uv.y);
+}
+""")
+    with pytest.raises(SpirvError, match=r"OpDPdx .*not supported.*wide\.frag:6"):
+        reactor.from_glsl(shader)
