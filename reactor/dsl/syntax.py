@@ -183,9 +183,14 @@ _LIBRARY_DIRS = tuple(os.path.realpath(p) + os.sep for p in {
 _NEEDS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
+_NOT_PLAIN = inspect.CO_GENERATOR | inspect.CO_COROUTINE | inspect.CO_ASYNC_GENERATOR
+
+
 def _users(fn) -> bool:
-    """Whether ``fn`` is a plain function of the user's (not a library's, not a lambda)."""
+    """Whether ``fn`` is a plain function of the user's (not a library's, not a lambda, not a
+    generator or coroutine, whose ``yield`` a branch function could not keep)."""
     return type(fn) is types.FunctionType and fn.__name__ != "<lambda>" and \
+        not fn.__code__.co_flags & _NOT_PLAIN and \
         not os.path.realpath(fn.__code__.co_filename).startswith(_LIBRARY_DIRS)
 
 

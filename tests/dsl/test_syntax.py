@@ -549,3 +549,20 @@ def test_a_planted_rewrite_in_the_disk_cache_is_never_run(tmp_path, monkeypatch)
         entry.unlink()
     assert np.array_equal(kernel(module.body, name="planted", cache=True)(x), [0.5, 6.0])
     assert not getattr(module, "PLANTED", False)
+
+
+def _pairs(v):                       # a generator helper: called as Python calls it, never rewritten
+    for k in range(2):
+        if k == 1:
+            yield v * 2.0
+        else:
+            yield v
+
+
+def test_a_generator_helper_is_left_as_python_wrote_it():
+    @kernel
+    def uses_generator(x: Float) -> Float:
+        a, b = _pairs(x)
+        return a + b if x > 0.0 else a - b
+
+    assert np.array_equal(uses_generator(X), np.where(X > 0, X * np.float32(3), -X))
