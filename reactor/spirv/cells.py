@@ -114,6 +114,41 @@ class Cell:
         write(self._at(), value)
 
 
+class _Invocation:
+    """``gl_GlobalInvocationID.x``: each lane's element. It is the index of its own element in the
+    buffers, and it is below the length of each (``.length()``): so a bounds check holds. Anything
+    else done with it is refused."""
+
+    def _refuse(self, *args):
+        raise SpirvError("gl_GlobalInvocationID.x is supported as the index of a buffer's element (one "
+                         "invocation per element) and in a bounds check against a buffer's length(); "
+                         "arithmetic on it, or another comparison, is not yet")
+
+    __int__ = __index__ = __float__ = __bool__ = __add__ = __radd__ = __sub__ = __mul__ = _refuse
+    __lt__ = __le__ = __gt__ = __ge__ = _refuse
+
+    def __repr__(self) -> str:
+        return "gl_GlobalInvocationID.x"
+
+
+class _Length(_Invocation):
+    """A buffer's ``length()``: more than any invocation's index."""
+
+    def __repr__(self) -> str:
+        return "length()"
+
+
+INVOCATION, LENGTH = _Invocation(), _Length()
+
+
+def invocation_compare(fn, xs):
+    """A comparison of the invocation's index with a buffer's length, known while building (the
+    index is below the length: 0 and 1 stand for them)."""
+    if sorted(map(repr, xs)) != sorted(["gl_GlobalInvocationID.x", "length()"]):
+        INVOCATION._refuse()
+    return bool(fn(*[0 if x is INVOCATION else 1 for x in xs]))
+
+
 class DynamicCell:
     """``cell[index][rest...]`` with ``index`` a per-lane Int: loads pick, stores go to the element
     each lane's index names (a select over the elements, as GLSL compilers lower it)."""

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..dsl.values import Value, value_class
 from ..ir.types import KINDS, VType
-from .cells import _dsl, componentwise
+from .cells import INVOCATION, LENGTH, _dsl, componentwise, invocation_compare
 
 
 # -- instructions ---------------------------------------------------------------------------------
@@ -34,6 +34,8 @@ def _float_op(fn, py=None):
 def _int(fn, py=None):
     """An integer operation: per lane, or while building with int32 wrap-around."""
     def op(*xs):
+        if any(x is INVOCATION or x is LENGTH for x in xs):
+            return invocation_compare(py or fn, xs)
         if any(isinstance(x, Value) for x in xs):
             return fn(*[_dsl(x, "Int") if not isinstance(x, Value) else x for x in xs])
         return _python((py or fn)(*[int(x) for x in xs]))
@@ -115,6 +117,9 @@ OPS: dict[str, typing.Callable] = {
     "OpIEqual": _int(lambda a, b: a == b), "OpINotEqual": _int(lambda a, b: a != b),
     "OpSLessThan": _int(lambda a, b: a < b), "OpSGreaterThan": _int(lambda a, b: a > b),
     "OpSLessThanEqual": _int(lambda a, b: a <= b), "OpSGreaterThanEqual": _int(lambda a, b: a >= b),
+    # unsigned: the same on values below 2^31 (an index, a count), which is what shaders compare
+    "OpULessThan": _int(lambda a, b: a < b), "OpUGreaterThan": _int(lambda a, b: a > b),
+    "OpULessThanEqual": _int(lambda a, b: a <= b), "OpUGreaterThanEqual": _int(lambda a, b: a >= b),
     "OpLogicalAnd": _bool(lambda a, b: a & b, lambda a, b: a and b),
     "OpLogicalOr": _bool(lambda a, b: a | b, lambda a, b: a or b),
     "OpLogicalNot": _bool(lambda a: ~a, lambda a: not a),

@@ -25,8 +25,8 @@ from ..dsl.vectors import Vec
 from ..ir.types import KINDS, VType
 from ..errors import ReactorError
 from .binary import Instruction, Module, SpirvError
-from .cells import Cell, _dsl, componentwise, from_vec, new_cell, pick, to_vec
-from .declarations import Declarations, Type, zero
+from .cells import INVOCATION, LENGTH, Cell, _dsl, componentwise, from_vec, new_cell, pick, to_vec
+from .declarations import _KIND, Declarations, Type, zero
 from .frames import Frame, to_result
 from .instructions import OPS, _dot, _fmul, _insert
 
@@ -337,6 +337,10 @@ class Translator:
         elif op == "OpTranspose":
             m = fr.get(ins.args[0])
             fr.put(ins, tuple(tuple(col[r] for col in m) for r in range(len(m[0]))))
+        elif op == "OpBitcast":
+            fr.put(ins, componentwise(lambda x: _bitcast(x, self.decl.types[ins.type]), fr.get(ins.args[0])))
+        elif op == "OpArrayLength":
+            fr.put(ins, LENGTH)  # a buffer's length: more than any invocation's index
         elif op == "OpExtInst":
             fr.put(ins, self.extended(ins, [fr.get(a) for a in ins.args[2:]]))
         elif op == "OpFunctionCall":
@@ -406,21 +410,6 @@ _ROUTINES = {"sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh"
              "log2", "sqrt", "inversesqrt"}
 
 
-class _Invocation:
-    """``gl_GlobalInvocationID.x``: each lane's element; only an index into the buffers."""
-
-    def _refuse(self, *args):
-        raise SpirvError("gl_GlobalInvocationID.x is supported as the index of a buffer's element only (one "
-                         "invocation per element); arithmetic on it, or a comparison, is not yet")
-
-    __int__ = __index__ = __float__ = __bool__ = __add__ = __radd__ = __sub__ = __mul__ = _refuse
-    __lt__ = __le__ = __gt__ = __ge__ = _refuse
-
-    def __repr__(self) -> str:
-        return "gl_GlobalInvocationID.x"
-
-
-INVOCATION = _Invocation()
 
 
 class Elementwise:
@@ -440,6 +429,20 @@ class Elementwise:
 
     def __iter__(self):
         return iter(())
+
+
+def _bitcast(x, typ: Type):
+    """OpBitcast of one component to ``typ``'s kind (int and uint are one kind here; the
+    invocation's index and a length pass as they are)."""
+    kind = typ.elem.kind if typ.kind == "vector" else typ.kind
+    if x is INVOCATION or x is LENGTH or isinstance(x, int) and not isinstance(x, bool) and kind == "int":
+        return x
+    from ..dsl.intrinsics import As
+    target = _KIND[kind]
+    value = _dsl(x, "Float" if isinstance(x, float) else "Int")
+    if value.kind.name == target:
+        return value
+    return As(value_class(VType(KINDS[target], value.width)), value)
 
 
 def _source_name(path: str) -> str:

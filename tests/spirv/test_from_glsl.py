@@ -315,8 +315,17 @@ def test_a_compute_shader_is_one_invocation_per_element():
     assert np.array_equal(data, values)
 
 
+def test_a_compute_shaders_bounds_check_holds():
+    shade = reactor.from_glsl(COMPUTE.replace("uint i = gl_GlobalInvocationID.x;",
+                                              "uint i = gl_GlobalInvocationID.x;\n    if (i >= values.length()) return;"),
+                              stage="compute", uniforms={"scale": 2.0})
+    v = RNG.uniform(0, 10, 37).astype(F)
+    values, result = shade(v, np.zeros_like(v))
+    assert np.array_equal(result, np.sqrt(v) * F(2)) and np.array_equal(values, v + F(1))
+
+
 def test_a_buffer_read_elsewhere_than_its_own_element_is_refused():
-    with pytest.raises(SpirvError, match="arithmetic on it, or a comparison, is not yet"):
+    with pytest.raises(SpirvError, match="arithmetic on it, or another comparison, is not yet"):
         reactor.from_glsl(COMPUTE.replace("float v = values[i];", "float v = values[i + 1u];"), stage="compute")
 
 
@@ -369,3 +378,14 @@ void main() {
 """)
     with pytest.raises(SpirvError, match=r"OpDPdx .*not supported.*wide\.frag:6"):
         reactor.from_glsl(shader)
+
+
+def test_bit_casts():
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) in float x;
+layout(location = 0) out float o;
+void main() { o = intBitsToFloat(floatBitsToInt(x) & 0x7fffffff) + float(floatBitsToInt(x) & 255); }
+""")
+    x = RNG.uniform(-4, 4, 37).astype(F)
+    bits = x.view(np.int32)
+    assert np.array_equal(shade(x), (bits & 0x7FFFFFFF).view(F) + (bits & 255).astype(F))
