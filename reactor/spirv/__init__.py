@@ -46,11 +46,21 @@ def from_glsl(source_or_path: str | os.PathLike, stage: str = "fragment", *, uni
     the kernel takes ``fragCoord`` as an (..., 2) array (pixel centres, the origin at the bottom
     left as in WebGL) and gives ``fragColor``; ``iResolution`` and ``iTime`` are arguments unless
     ``uniforms`` gives them, ``iTimeDelta``, ``iFrame``, ``iMouse``, ``iDate`` are 0 and
-    ``iSampleRate`` 44100 unless it does."""
-    from .glsl import SHADERTOY_DEFAULTS, compile_glsl, shadertoy_source
+    ``iSampleRate`` 44100 unless it does.
+
+    ``stage="webgl"``: a WebGL-style fragment shader (GLSL ES 1.00 as three.js and glslify write
+    it: ``varying`` inputs, ``texture2D``, ``gl_FragColor``), run with no edit through the prelude
+    of :data:`reactor.spirv.glsl.WEBGL`: its ``varying`` variables, in declaration order, are the
+    inputs and ``gl_FragColor`` the output.
+
+    Uniforms outside a block, as desktop and WebGL shaders declare them, are taken like a block's
+    members; ``in``/``out`` variables with no ``location`` are numbered in declaration order."""
+    from .glsl import SHADERTOY_DEFAULTS, compile_glsl, shadertoy_source, webgl_source
 
     if stage == "shadertoy":
         source_or_path, stage = shadertoy_source(source_or_path), "fragment"
         uniforms = {**SHADERTOY_DEFAULTS, **(uniforms or {})}
+    elif stage == "webgl":
+        source_or_path, stage = webgl_source(source_or_path), "fragment"
     spirv = compile_glsl(source_or_path, stage, use_disk=bool(options.get("cache", True)))
     return from_spirv(spirv, uniforms=uniforms, samplers=samplers, name=name, validate=False, **options)

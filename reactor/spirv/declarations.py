@@ -71,6 +71,7 @@ class Declarations:
         self.types: dict[int, Type] = {}
         self.pointee: dict[int, int] = {}  # pointer type id -> its pointee's type id
         self.constants: dict[int, typing.Any] = {}
+        self.spec_constants: dict[int, Type] = {}  # specialization constant -> its type
         self.globals: dict[int, Instruction] = {}
         self.functions: dict[int, Function] = {}
         self.imports: dict[int, str] = {}
@@ -112,10 +113,13 @@ class Declarations:
             self.types[ins.id] = self._type(ins)
         elif op in ("OpConstant", "OpSpecConstant"):
             self.constants[ins.id] = self._number(self.types[ins.type], a)
+            self._specialization(ins)
         elif op in ("OpConstantTrue", "OpSpecConstantTrue"):
             self.constants[ins.id] = True
+            self._specialization(ins)
         elif op in ("OpConstantFalse", "OpSpecConstantFalse"):
             self.constants[ins.id] = False
+            self._specialization(ins)
         elif op in ("OpConstantComposite", "OpSpecConstantComposite"):
             self.constants[ins.id] = tuple(self.constants[c] for c in a)
         elif op == "OpConstantNull":
@@ -128,6 +132,22 @@ class Declarations:
             pass
         else:
             raise SpirvError(f"{op} (SPIR-V word {ins.word}) is not supported outside functions")
+
+    def _specialization(self, ins: Instruction) -> None:
+        """Note a scalar specialization constant (``layout(constant_id = N) const T name``)."""
+        if ins.op.startswith("OpSpec"):
+            self.spec_constants[ins.id] = self.types[ins.type]
+
+    def specialize(self, given: dict) -> None:
+        """Set the specialization constants ``given`` names (by name, or by ``constant_id``) to
+        their values, as a Vulkan pipeline's specialization info would."""
+        for cid, typ in self.spec_constants.items():
+            spec_id = self.decorations.get(cid, {}).get("SpecId", [None])[0]
+            for key in (self.names.get(cid), spec_id):
+                if key is not None and key in given:
+                    value = given[key]
+                    self.constants[cid] = bool(value) if typ.kind == "bool" else \
+                        struct.unpack("<f", struct.pack("<f", value))[0] if typ.kind == "float" else int(value)
 
     def _type(self, ins: Instruction) -> Type:
         op, a, t = ins.op, ins.args, self.types

@@ -26,6 +26,20 @@ layout(binding = 0) uniform ShadertoyInputs {
 %s
 void main() { mainImage(reactor_fragColor, reactor_fragCoord); }
 """
+#: What a WebGL-style fragment shader is compiled with (GLSL ES 1.00 as three.js's ``ShaderMaterial``,
+#: glslify modules and most WebGL tutorials write it): ``varying`` inputs, ``texture2D``, and
+#: ``gl_FragColor`` as its output; its text from line 1 follows.
+WEBGL = """#version 450
+#define varying in
+#define texture2D texture
+#define textureCube texture
+#define texture2DLodEXT textureLod
+layout(location = 0) out vec4 reactor_FragColor;
+#define gl_FragColor reactor_FragColor
+#line 1
+%s
+"""
+
 SHADERTOY_DEFAULTS = {"iTimeDelta": 0.0, "iFrame": 0, "iMouse": (0.0, 0.0, 0.0, 0.0), "iDate": (0.0, 0.0, 0.0, 0.0),
                       "iSampleRate": 44100.0}
 
@@ -33,13 +47,23 @@ SHADERTOY_DEFAULTS = {"iTimeDelta": 0.0, "iFrame": 0, "iMouse": (0.0, 0.0, 0.0, 
 def shadertoy_source(source_or_path) -> str:
     """A Shadertoy shader's text (or a file's) inside :data:`SHADERTOY`, with a ``sampler2D
     iChannelN`` for each channel it names (a texture argument after the others)."""
-    text = str(source_or_path)
-    if isinstance(source_or_path, os.PathLike) or ("\n" not in text and os.path.isfile(text)):
-        with open(os.fspath(source_or_path), encoding="utf-8") as f:
-            text = f.read()
+    text = _text(source_or_path)
     channels = "".join(f"layout(binding = {1 + n}) uniform sampler2D iChannel{n};\n" for n in range(4)
                        if f"iChannel{n}" in text)
     return SHADERTOY.replace("#line 1\n", channels + "#line 1\n") % text
+
+
+def webgl_source(source_or_path) -> str:
+    """A WebGL-style fragment shader's text (or a file's) inside :data:`WEBGL`."""
+    return WEBGL % _text(source_or_path)
+
+
+def _text(source_or_path) -> str:
+    text = str(source_or_path)
+    if isinstance(source_or_path, os.PathLike) or ("\n" not in text and os.path.isfile(text)):
+        with open(os.fspath(source_or_path), encoding="utf-8") as f:
+            return f.read()
+    return text
 
 
 def glslang() -> tuple[str, dict | None]:
@@ -65,6 +89,11 @@ def tool(name: str) -> tuple[str, dict | None] | None:
     found = shutil.which(name)
     return (found, None) if found else None
 
+
+#: glslang's options: SPIR-V for Vulkan with OpLine (``-g``); relaxed rules (``-R``) so that desktop
+#: and WebGL shaders' uniforms outside a block compile (into ``gl_DefaultUniformBlock``, whose members
+#: are named as usual), with locations and bindings given in declaration order where none is written.
+FLAGS = ("-V", "-g", "-R", "--auto-map-locations", "--auto-map-bindings")
 
 _VALID: set = set()  # SHA-256 of the modules spirv-val accepted in this process
 
@@ -92,7 +121,7 @@ def compile_glsl(source_or_path, stage: str = "fragment", use_disk: bool = True)
     """SPIR-V for Vulkan (``glslangValidator -V``) of GLSL text or a file; kept in reactor's
     authenticated disk cache by source text (``use_disk``), so glslang runs once per source."""
     if stage not in STAGES:
-        raise SpirvError(f"stage must be one of {', '.join(STAGES)}, not {stage!r}")
+        raise SpirvError(f"stage must be one of fragment, compute, shadertoy, webgl, not {stage!r}")
     text = str(source_or_path)
     is_path = isinstance(source_or_path, os.PathLike) or ("\n" not in text and os.path.isfile(text))
     if is_path:
@@ -101,7 +130,7 @@ def compile_glsl(source_or_path, stage: str = "fragment", use_disk: bool = True)
     else:
         source = text
     tool, env = glslang()
-    key = "s" + hashlib.sha256(repr((tool, stage, source, "-g")).encode()).hexdigest()[:40]
+    key = "s" + hashlib.sha256(repr((tool, stage, source, FLAGS)).encode()).hexdigest()[:40]
     if use_disk:
         found = cache.disk_get(key, ".s")
         if found is not None:
@@ -120,7 +149,7 @@ def _run_glslang(tool: str, env, path, source: str, stage: str) -> bytes:
             with open(src, "w", encoding="utf-8") as f:
                 f.write(source)
         out = os.path.join(tmp, "shader.spv")
-        run = subprocess.run([tool, "-V", "-g", "-S", STAGES[stage], "-o", out, src], capture_output=True,
+        run = subprocess.run([tool, *FLAGS, "-S", STAGES[stage], "-o", out, src], capture_output=True,
                              text=True, timeout=120, env=env)
         if run.returncode != 0:
             lines = [line for line in (run.stdout + run.stderr).splitlines()

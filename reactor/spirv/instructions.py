@@ -43,11 +43,7 @@ def _int(fn, py=None):
 
 
 def _bool(fn, py):
-    def op(*xs):
-        if any(isinstance(x, Value) for x in xs):
-            return fn(*[_dsl(x, "Bool") if not isinstance(x, Value) else x for x in xs])
-        return bool(py(*[bool(x) for x in xs]))
-    return _arith(op)
+    return _arith(_bool_op(fn, py))
 
 
 def _python(r):
@@ -94,6 +90,29 @@ def _select(fr, ins):
     fr.put(ins, componentwise(lambda c, x, y: Select(c, x, y), cond, a, b))
 
 
+def _bool_op(fn, py):
+    def op(*xs):
+        if any(isinstance(x, Value) for x in xs):
+            return fn(*[_dsl(x, "Bool") if not isinstance(x, Value) else x for x in xs])
+        return bool(py(*[bool(x) for x in xs]))
+    return op
+
+
+_AND = _bool_op(lambda a, b: a & b, lambda a, b: a and b)
+_OR = _bool_op(lambda a, b: a | b, lambda a, b: a or b)
+
+
+def _reduce(combine):
+    """``OpAll``/``OpAny``: a bool vector's components combined into one bool."""
+    def op(fr, ins):
+        parts = fr.get(ins.args[0])
+        total = parts[0]
+        for part in parts[1:]:
+            total = combine(total, part)
+        fr.put(ins, total)
+    return op
+
+
 def _fmod(x, y):
     from ..dsl.intrinsics import Floor
     return x - y * Floor(x / y)
@@ -126,7 +145,7 @@ OPS: dict[str, typing.Callable] = {
     "OpLogicalEqual": _bool(lambda a, b: ~(a ^ b), lambda a, b: a == b),
     "OpLogicalNotEqual": _bool(lambda a, b: a ^ b, lambda a, b: a != b),
     "OpConvertSToF": _convert("Float"), "OpConvertFToS": _convert("Int"),
-    "OpSelect": _select,
+    "OpSelect": _select, "OpAll": _reduce(_AND), "OpAny": _reduce(_OR),
 }
 
 

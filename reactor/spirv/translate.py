@@ -55,6 +55,7 @@ class Translator:
     def __init__(self, module: Module, uniforms: dict | None = None, samplers: dict | None = None) -> None:
         self.decl = Declarations(module)
         self.uniforms = dict(uniforms or {})
+        self.decl.specialize(self.uniforms)
         self.samplers = dict(samplers or {})
         self.location: tuple[str, int] | None = None  # the shader's (file, line) being translated (OpLine)
         entry = typing.cast(Instruction, self.decl.entry)
@@ -67,6 +68,7 @@ class Translator:
         self.phi_types = {ins.id: ins.type for f in self.decl.functions.values()
                           for b in f.blocks.values() for ins in b.body if ins.op == "OpPhi"}
         self.inputs, self.outputs, self.uniform_args = self._interface(interface)
+        self._check_given()
         self.global_cells: dict[int, Cell] = {}
         self.output_cells: list[Cell] = []
         self.discards = any(b.terminator.op in ("OpKill", "OpTerminateInvocation")
@@ -110,12 +112,29 @@ class Translator:
         if self.model == "GLCompute":  # one invocation per element: each array is an operand
             self.buffers.sort()
             written = self._written_members()
-            inputs = [(b, (vid, k), name, typ) for b, vid, k, name, typ in self.buffers]
+            self.shared = self._shared_members(written)
+            inputs = [(b, (vid, k), name, self.shared.get((vid, k), typ)) for b, vid, k, name, typ in self.buffers
+                      if not ((vid, k) in self.shared and name in self.uniforms)]
             outputs = [(b, (vid, k), name, typ) for b, vid, k, name, typ in self.buffers if (vid, k) in written]
             if not outputs:
                 raise SpirvError("the compute shader writes no buffer (the kernel would have no output)")
             return inputs, outputs, uniform_args
         return sorted(inputs), sorted(outputs), uniform_args
+
+    def _check_given(self) -> None:
+        """Every name in ``uniforms`` is a uniform, a specialization constant or a buffer read at
+        constant indices of this shader: a misspelt one is an error, not a silent default."""
+        d = self.decl
+        known = {d.member_names.get((d.pointee[var.type], k), "") for vid, var in d.globals.items()
+                 if var.args[0] == "Uniform" and d.types[var.type].elem.kind == "struct"
+                 for k in range(len(d.types[var.type].elem.members))}
+        known |= {d.names.get(cid) for cid in d.spec_constants} | {n for _, _, _, n, _ in self.buffers}
+        known |= {sid for cid in d.spec_constants for sid in d.decorations.get(cid, {}).get("SpecId", [])}
+        unknown = [k for k in self.uniforms if k not in known]
+        if unknown:
+            names = ", ".join(sorted(str(n) for n in known if n)) or "none"
+            raise SpirvError(f"uniforms= names {', '.join(map(repr, unknown))}, which the shader does not declare "
+                             f"(its uniforms and specialization constants: {names})")
 
     def _is_buffer(self, vid: int) -> bool:
         var = self.decl.globals[vid]
@@ -137,14 +156,33 @@ class Translator:
                                  f"one element per invocation")
             self.buffers.append((binding, vid, k, name, member.elem))
 
+    def _chains(self) -> dict:
+        """Each access chain: its base and its indices."""
+        return {ins.id: (ins.args[0], ins.args[1:]) for f in self.decl.functions.values()
+                for b in f.blocks.values() for ins in b.body if ins.op in ("OpAccessChain", "OpInBoundsAccessChain")}
+
+    def _shared_members(self, written: set) -> dict:
+        """The buffer members read at constant indices only, as Kompute's weights ``w[0], w[1]``
+        are: each is one argument holding those elements (a ``vecN``, N the highest index read
+        plus one; a scalar where N is 1), the same for every invocation."""
+        highest: dict = {}
+        for base, indices in self._chains().values():
+            if base not in {vid for _, vid, *_ in self.buffers} or len(indices) < 2:
+                continue
+            key = (base, self.decl.constants.get(indices[0], indices[0]))
+            index = self.decl.constants.get(indices[1])
+            highest[key] = None if index is None or key in highest and highest[key] is None \
+                else max(index, highest.get(key) or 0)
+        shared = {}
+        for _, vid, k, name, typ in self.buffers:
+            n = highest.get((vid, k))
+            if n is not None and (vid, k) not in written and typ.scalar:
+                shared[vid, k] = typ if n == 0 else Type("vector", count=n + 1, elem=typ)
+        return shared
+
     def _written_members(self) -> set:
         """The (buffer variable, member) pairs a store reaches."""
-        chains = {}
-        for f in self.decl.functions.values():
-            for b in f.blocks.values():
-                for ins in b.body:
-                    if ins.op in ("OpAccessChain", "OpInBoundsAccessChain"):
-                        chains[ins.id] = (ins.args[0], ins.args[1] if len(ins.args) > 1 else None)
+        chains = {cid: (base, indices[0] if indices else None) for cid, (base, indices) in self._chains().items()}
         written = set()
         for f in self.decl.functions.values():
             for b in f.blocks.values():
@@ -229,6 +267,11 @@ class Translator:
         self.elements = {}
         members: dict[int, dict] = {}
         for _, vid, k, name, typ in self.buffers:
+            if (vid, k) in self.shared:
+                shape = self.shared[vid, k]
+                value = _constant(self.uniforms[name], shape) if name in self.uniforms else _flatten(args.pop(0))
+                members.setdefault(vid, {})[k] = Shared(value if isinstance(value, tuple) else (value,), name)
+                continue
             value = _flatten(args.pop(0))
             cell = new_cell(typ, value, name) if (vid, k) in written else Cell(value)
             self.elements[vid, k] = cell
@@ -421,7 +464,8 @@ class Elementwise:
     def __getitem__(self, index):
         if index is not INVOCATION:
             raise SpirvError(f"buffer {self.name} is indexed by something other than gl_GlobalInvocationID.x: one "
-                             f"invocation per element reads and writes its own element only")
+                             f"invocation per element reads and writes its own element only (a buffer read at "
+                             f"constant indices only is one argument, the same for every invocation)")
         return self.element
 
     def __len__(self) -> int:
@@ -429,6 +473,19 @@ class Elementwise:
 
     def __iter__(self):
         return iter(())
+
+
+class Shared(Elementwise):
+    """A buffer's array read at constant indices only: the elements every invocation sees."""
+
+    def __init__(self, elements: tuple, name: str) -> None:
+        super().__init__(elements, name)
+
+    def __getitem__(self, index):
+        if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index < len(self.element):
+            raise SpirvError(f"buffer {self.name} is read at constant indices elsewhere: it cannot also be indexed "
+                             f"by {index!r}")
+        return self.element[index]
 
 
 def _bitcast(x, typ: Type):
@@ -486,7 +543,7 @@ def kernel_body(spirv: bytes, uniforms: dict | None = None, samplers: dict | Non
 
     translator = malformed_is_an_error(lambda: Translator(decode(spirv), uniforms, samplers))
     names, annotations, result = malformed_is_an_error(translator.signature)
-    given = tuple(sorted((k, _frozen(v)) for k, v in (uniforms or {}).items()))
+    given = tuple(sorted(((k, _frozen(v)) for k, v in (uniforms or {}).items()), key=repr))
     states = tuple(sorted((k, tuple(v)) for k, v in (samplers or {}).items()))
 
     def body(*args):

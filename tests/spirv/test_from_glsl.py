@@ -389,3 +389,74 @@ void main() { o = intBitsToFloat(floatBitsToInt(x) & 0x7fffffff) + float(floatBi
     x = RNG.uniform(-4, 4, 37).astype(F)
     bits = x.view(np.int32)
     assert np.array_equal(shade(x), (bits & 0x7FFFFFFF).view(F) + (bits & 255).astype(F))
+
+
+WEBGL = """precision highp float;
+uniform sampler2D tDiffuse;
+uniform float amount;
+varying vec2 vUv;
+void main() {
+    vec4 c = texture2D(tDiffuse, vUv);
+    gl_FragColor = vec4(c.rgb * amount, c.a);
+    if (any(greaterThan(c.rgb, vec3(0.9)))) gl_FragColor.a = 0.0;
+}
+"""
+
+
+def test_a_webgl_shader_runs_with_no_edit():
+    """three.js and glslify write GLSL ES 1.00: varying, texture2D, gl_FragColor, loose uniforms."""
+    shade = reactor.from_glsl(WEBGL, stage="webgl", uniforms={"amount": 0.5})
+    image = RNG.uniform(0, 1, (4, 4, 4)).astype(F)
+    uv = ((np.argwhere(np.ones((4, 4))) + 0.5) / 4)[:, ::-1].astype(F)  # texel centres: exact texels
+    got = shade(uv, image)
+    texels = image.reshape(-1, 4)
+    want = np.concatenate([texels[:, :3] * F(0.5), np.where((texels[:, :3] > F(0.9)).any(1), 0, texels[:, 3])[:, None]], 1)
+    assert np.array_equal(got, want)
+
+
+def test_desktop_glsl_without_locations_or_blocks():
+    """In/out variables with no location are numbered in declaration order; loose uniforms are
+    uniforms; all() of a vector comparison."""
+    shade = reactor.from_glsl("""#version 330
+in float a;
+in vec2 b;
+out vec4 color;
+uniform vec3 shading;
+void main() {
+    if (shading == vec3(0.0)) { color = vec4(a, b, 1.0); return; }
+    color = vec4(shading, a);
+}""", uniforms={"shading": (0.0, 0.0, 0.0)})
+    assert shade.signature == "(),(2)->(4)"
+    assert np.array_equal(shade(F(3), np.array([1, 2], F)), [3, 1, 2, 1])
+
+
+def test_a_misspelt_uniform_is_an_error():
+    with pytest.raises(SpirvError, match="names 'gian', which the shader does not declare .*gain"):
+        reactor.from_glsl(LOOPS, uniforms={"gian": 2.0})
+
+
+SPECIALIZED = """#version 450
+layout(local_size_x = 1) in;
+layout(constant_id = 0) const float m = 1.0;
+layout(constant_id = 7) const int k = 1;
+layout(binding = 0) buffer X { float x[]; };
+layout(binding = 1) buffer W { float w[]; };
+layout(binding = 2) buffer Y { float y[]; };
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    y[i] = (w[0] * x[i] + w[2]) / m + float(k);
+}
+"""
+
+
+def test_specialization_constants_by_name_or_id_and_buffers_read_at_constant_indices():
+    """Kompute's pattern: weights read as w[0], w[2] by every invocation are one vec3 argument."""
+    shade = reactor.from_glsl(SPECIALIZED, stage="compute", uniforms={"m": 4.0, 7: 3})
+    assert shade.signature == "(),(3),()->()"
+    x, w = RNG.uniform(-1, 1, 37).astype(F), np.array([0.5, 9.0, 0.25], F)
+    want = (w[0] * x + w[2]) / F(4) + F(3)
+    assert np.array_equal(shade(x, w, np.zeros_like(x)), want)
+    folded = reactor.from_glsl(SPECIALIZED, stage="compute", uniforms={"m": 4.0, 7: 3, "w": w})
+    assert np.array_equal(folded(x, np.zeros_like(x)), want)
+    with pytest.raises(SpirvError, match="buffer w is indexed by something .* read at constant indices only"):
+        reactor.from_glsl(SPECIALIZED.replace("+ w[2]", "+ w[2] + w[i]"), stage="compute")
