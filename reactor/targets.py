@@ -66,6 +66,13 @@ class Target:
         return 4
 
     @property
+    def fast_gather(self) -> bool:
+        """Whether gather instructions beat one load per lane: Intel's cores from Skylake on (as
+        LLVM tunes them); not AMD's (a 16-lane ``vgatherdps`` costs ~32 cycles on Zen 4,
+        measured), Haswell's, or AArch64's (which has none)."""
+        return self.arch == "x86_64" and self.cpu.startswith(_FAST_GATHER)
+
+    @property
     def has_fma(self) -> bool:
         return "fma" in self.feature_set
 
@@ -113,6 +120,11 @@ def host_features() -> frozenset[str]:
     _llvm_ready()
     return frozenset(k for k, v in llvm.get_host_cpu_features().items() if v)
 
+
+#: CPUs (LLVM names) with fast gathers: LLVM's TuningFastGather processors
+_FAST_GATHER = ("skylake", "cascadelake", "cooperlake", "cannonlake", "icelake", "tigerlake", "rocketlake",
+                "sapphirerapids", "emeraldrapids", "graniterapids", "alderlake", "raptorlake", "meteorlake",
+                "arrowlake", "lunarlake", "pantherlake", "diamondrapids", "x86-64-v4")
 
 # Forced targets: (triple, cpu, required features, every feature the CPU implies). LLVM
 # derives its feature set from the CPU name; "required" is what the host must

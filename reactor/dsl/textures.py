@@ -177,17 +177,72 @@ class TextureValue:
             low = Floor(t)
             fracs.append(t - low)
             lows.append(_to_int(low))
+        located = {corner: self._locate([low + ((corner >> a) & 1) for a, low in enumerate(lows)])
+                   for corner in range(1 << self.spec.ndim)}
+        em = _em.current()
+        width = max(w for _, _, w in located.values())
+        if not self._by_rows(em, width):
+            return _blend({c: self._texels_at(em, *where, normalize=True) for c, where in located.items()}, fracs)
+        head = em.block
+        with em.if_else(self._adjacent(em), name="texels") as (rows, gathers):
+            with rows:
+                by_rows = self._blend_rows(em, located, fracs, width)
+                rows_end = em.block
+            with gathers:
+                gathered = _blend({c: self._texels_at(em, *where, normalize=True, rows=False)
+                                   for c, where in located.items()}, fracs)
+                gathered = [x.ir for x in gathered._c]
+                gathers_end = em.block
+        f32 = VType(KINDS["Float"], width)
+        phis = [em.phi(f32, [(a, rows_end), (b, gathers_end)], name="texel") for a, b in zip(by_rows, gathered)]
+        _gather_if_few_read(em, head.terminator, phis)
+        comps = [value_class(f32)._wrap(x, em) for x in phis]
+        from .vectors import vec_type
+        return vec_type("Float", self.spec.channels)._of(comps)
+
+    def _by_rows(self, em, width: int) -> bool:
+        """Whether to filter whole texels (a load per lane and corner, the blend on the texels as
+        they lie in memory, then one transpose) rather than gather each channel: where gathers
+        are slow, for 2 or 4 channels."""
+        c = self.spec.channels
+        return c in (2, 4) and width > 1 and width % c == 0 and not em.module.build.target.fast_gather
+
+    def _adjacent(self, em):
+        """When the kernel runs: the array has texels, and a texel's channels are adjacent."""
+        return ops.binary(em, "and", VType(KINDS["Bool"], 1), self._nonempty(em, 1), ops.compare(
+            em, INDEX, "eq", self._strides[self.spec.ndim], T.const(INDEX, self.spec.kind.mem_bytes)))
+
+    def _blend_rows(self, em, located, fracs, width: int) -> list:
+        """Bilinear (trilinear) filtering on whole texels: each group of ``width // channels`` lanes
+        holds their texels' channels side by side, the same arithmetic as :func:`_blend` on
+        each, so the results are the same bits. Gives each channel's values (IR)."""
+        c = self.spec.channels
+        group = width // c
+        vt, f32 = VType(self.spec.kind, width), VType(KINDS["Float"], width)
+        spread = [[g * group + j // c for j in range(width)] for g in range(c)]  # lane values beside its channels
         corners = {}
-        for corner in range(1 << self.spec.ndim):
-            ints = [low + ((corner >> a) & 1) for a, low in enumerate(lows)]
-            corners[corner] = self._texels(ints, normalize=True)
-        for a, f in enumerate(fracs):  # mix along x, then y, then z
+        for corner, (offset, mask, w) in located.items():
+            offset, mask = _splat(em, offset, w, width), _splat(em, mask, w, width)
+            safe = em.select(mask, offset, T.const(VType(INDEX.kind, width), 0), name="texel.at")
+            groups = em.row_groups(vt, self.base, safe, c, name="texel")
+            corners[corner] = [_normalized(value_class(vt)._wrap(em.select(
+                em.shuffle(mask, mask, lanes), g, T.const(T.memory(vt), 0)), em)) for g, lanes in zip(groups, spread)]
+        weights = [[value_class(f32)._wrap(em.shuffle(x, x, lanes), em)
+                    for lanes in spread] for x in (_splat(em, _as_float(f).ir, f.width, width) for f in fracs)]
+        for a, per_group in enumerate(weights):  # mix along x, then y, then z
             step = 1 << a
-            corners = {c: _mix(corners[c], corners[c | step], f) for c in corners if not c & step}
-        return corners[0]
+            corners = {k: [_mix(p, q, t) for p, q, t in zip(corners[k], corners[k | step], per_group)]
+                       for k in corners if not k & step}
+        return em.ungroup([x.ir for x in corners[0]], c, name="texel")
 
     def _texels(self, coords, normalize: bool):
         """Gather the texels at integer ``coords`` (x first) with the wrap mode."""
+        return self._texels_at(_em.current(), *self._locate(coords), normalize=normalize)
+
+    def _locate(self, coords):
+        """(byte offsets, lanes that read, width) of the texels at integer ``coords`` (x first),
+        after the wrap mode; a lane reads where it is active, inside (border) and the array has
+        texels."""
         em = _em.current()
         spec = self.spec
         coords = [_as_int(c) for c in coords]
@@ -209,18 +264,48 @@ class TextureValue:
         # an empty array: no lane reads
         nonempty = self._nonempty(em, width)
         mask_ir = nonempty if mask_ir is None else ops.binary(em, "and", i32.with_kind("Bool"), mask_ir, nonempty)
-        vt = VType(spec.kind, width)
+        return offset, mask_ir, width
+
+    def _texels_at(self, em, offset, mask_ir, width: int, normalize: bool, rows: bool = True):
+        vt = VType(self.spec.kind, width)
         comps = []
-        for ch in range(spec.channels):
-            at = offset if ch == 0 else ops.binary(em, "add", i64, offset, ops.binary(
-                em, "mul", i64, em.splat(self._strides[spec.ndim], width), T.const(i64, ch)))
-            raw = em.gather(vt, self.base, at, mask_ir, name="texel")
+        for raw in self._read(em, vt, offset, mask_ir) if rows else self._gathers(em, vt, offset, mask_ir):
             value = value_class(vt)._wrap(raw, em)
             comps.append(_normalized(value) if normalize else value)
-        if spec.channels == 1:
+        if self.spec.channels == 1:
             return comps[0]
         from .vectors import vec_type
-        return vec_type(comps[0].kind, spec.channels)._of(comps)
+        return vec_type(comps[0].kind, self.spec.channels)._of(comps)
+
+    def _read(self, em, vt: VType, offset, mask):
+        """The channels of the texels at byte ``offset`` (lanes off in ``mask`` give 0): one
+        gather per channel; where gathers are slow and a texel's channels are adjacent in memory
+        (checked when the kernel runs), one load per lane instead."""
+        if self.spec.channels == 1 or vt.width == 1 or em.module.build.target.fast_gather:
+            return self._gathers(em, vt, offset, mask)
+        mem = T.memory(vt)
+        head = em.block
+        with em.if_else(self._adjacent(em), name="texels") as (rows, gathers):
+            with rows:  # masked lanes read the first texel (there is one), then give 0
+                safe = em.select(mask, offset, T.const(VType(INDEX.kind, vt.width), 0), name="texel.at")
+                loaded = [em.select(mask, x, T.const(mem, 0)) for x in
+                          em.load_rows(vt, self.base, safe, self.spec.channels, name="texel")]
+                rows_end = em.block
+            with gathers:
+                gathered = self._gathers(em, vt, offset, mask)
+                gathers_end = em.block
+        phis = [em.phi(mem, [(a, rows_end), (b, gathers_end)], name="texel") for a, b in zip(loaded, gathered)]
+        _gather_if_few_read(em, head.terminator, phis)
+        return phis
+
+    def _gathers(self, em, vt: VType, offset, mask):
+        i64 = VType(INDEX.kind, vt.width)
+        out = []
+        for ch in range(self.spec.channels):
+            at = offset if ch == 0 else ops.binary(em, "add", i64, offset, ops.binary(
+                em, "mul", i64, em.splat(self._strides[self.spec.ndim], vt.width), T.const(i64, ch)))
+            out.append(em.gather(vt, self.base, at, mask, name="texel"))
+        return out
 
     def _nonempty(self, em, width: int):
         bool1 = VType(KINDS["Bool"], 1)
@@ -334,8 +419,22 @@ def _normalized(v: Value) -> Value:
     return v
 
 
+def _gather_if_few_read(em, branch, channels: list) -> None:
+    """Once the body is complete: where at most one of the texel's channels is read (a luminance
+    tap ``.r``), gathering it alone costs less than loading whole texels, so take that path."""
+    em.at_finish(lambda used: em.never_take(branch) if sum(id(c) in used for c in channels) <= 1 else None)
+
+
 def _mix(a, b, t):
     return a * (1.0 - t) + b * t
+
+
+def _blend(corners: dict, fracs):
+    """Linear filtering of the texels at a cell's corners (corner bit a: +1 along axis a)."""
+    for a, f in enumerate(fracs):  # mix along x, then y, then z
+        step = 1 << a
+        corners = {c: _mix(corners[c], corners[c | step], f) for c in corners if not c & step}
+    return corners[0]
 
 
 class ConstantTable:

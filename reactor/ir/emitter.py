@@ -293,6 +293,7 @@ class FunctionEmitter:
         #: the source-location provider the front end installs: the user's (file, line) now, or None
         self.locate: typing.Callable[[], tuple[str, int] | None] | None = None
         self.tail_body = False  # a kernel's width-1 body beside its vector body (a column of its own)
+        self._at_finish: list[typing.Callable[[set], None]] = []  # given the ids of the values used
         fnty = ir.FunctionType(_llvm(ret), [_llvm(p) for p in params])
         self.function = ir.Function(module.module, fnty, name=name)
         for arg, argname in zip(self.function.args, param_names):
@@ -517,6 +518,39 @@ class FunctionEmitter:
         fn = self.intrinsic(f"llvm.masked.scatter.{T.mangle(value.type)}.v{vt.width}p0", ir.VoidType(),
                             [value.type, ptrs.type, ir.IntType(32), mask.type])
         self._b.call(fn, [value, ptrs, ir.Constant(ir.IntType(32), vt.kind.mem_bytes), mask])
+
+    def load_rows(self, vt: "T.VType", base, offsets, count: int, name: str = "row"):
+        """For each lane, ``count`` consecutive elements of ``vt``'s kind (in memory form) at
+        ``base + offsets[lane]`` bytes, read with one vector load per lane, given back as ``count``
+        values of ``vt`` (element k of every lane: a transpose by shuffles). Every lane reads, so
+        the caller makes each offset valid. Where gathers are slow (AMD, AArch64), this costs
+        less than ``count`` gathers."""
+        return self.ungroup(self.row_groups(vt, base, offsets, count, name), count, name)
+
+    def row_groups(self, vt: "T.VType", base, offsets, count: int, name: str = "row") -> list:
+        """The rows of :meth:`load_rows` as they lie in memory: ``count`` vectors of ``vt``'s width,
+        the k-th holding lanes k*g .. k*g + g - 1 (g = width // count) side by side."""
+        row = ir.VectorType(_llvm(T.memory(vt).with_width(1)), count)
+        bytes_ = self._b.bitcast(base, ir.IntType(8).as_pointer())
+        rows = [self._b.load(self._b.bitcast(self._b.gep(bytes_, [self.extract(offsets, lane, name=f"{name}.at")]),
+                                             row.as_pointer()), name=name, align=vt.kind.mem_bytes)
+                for lane in range(vt.width)]
+        while rows[0].type.count < vt.width:  # concatenate pairwise
+            n = rows[0].type.count
+            rows = [self.shuffle(rows[i], rows[i + 1], list(range(2 * n)), name=f"{name}s")
+                    for i in range(0, len(rows), 2)]
+        return rows
+
+    def ungroup(self, groups: list, count: int, name: str = "row") -> list:
+        """``count`` vectors of lane values side by side (as :meth:`row_groups` gives them) as
+        ``count`` vectors of one element each (a transpose by shuffles)."""
+        while len(groups) > 1:
+            n = groups[0].type.count
+            groups = [self.shuffle(groups[i], groups[i + 1], list(range(2 * n)), name=f"{name}s")
+                      for i in range(0, len(groups), 2)]
+        whole, width = groups[0], groups[0].type.count // count
+        return [self.shuffle(whole, whole, [lane * count + k for lane in range(width)], name=f"{name}.{k}")
+                for k in range(count)]
 
     def _lane_pointers(self, base, offsets, elem, width: int, name: str):
         """A vector of ``width`` pointers ``base + offsets[lane]`` (llvmlite's GEP takes no vectors)."""
@@ -747,6 +781,16 @@ class FunctionEmitter:
         self.scope = scope.parent or self.root_scope
 
     # -- finishing ----------------------------------------------------------
+    def at_finish(self, decide: typing.Callable[[set], None]) -> None:
+        """Call ``decide(used)`` when the body is complete (``finish`` finds every path ended):
+        ``used`` holds the ``id`` of every value an instruction reads (a choice that depends on
+        what the rest of the body needs). Never called, the choice is not made."""
+        self._at_finish.append(decide)
+
+    def never_take(self, branch) -> None:
+        """Make a conditional branch always go to its second target."""
+        branch.operands[0] = ir.Constant(ir.IntType(1), 0)
+
     def finish(self) -> list[ir.Block]:
         """Close the body: blocks unreachable from the entry get ``unreachable``;
         return the reachable blocks that still lack a terminator (they fall off
@@ -775,6 +819,11 @@ class FunctionEmitter:
             else:
                 self._b.position_at_end(block)
                 self._b.unreachable()
+        if self._at_finish and not open_blocks:  # complete: every path ends (a caller may add the returns)
+            used = {id(op) for block in self.function.blocks for ins in block.instructions for op in ins.operands}
+            for decide in self._at_finish:
+                decide(used)
+            self._at_finish.clear()
         return open_blocks
 
 

@@ -307,3 +307,33 @@ def test_writing_a_table_in_a_kernel_says_how_to_scatter():
         def w(i: Int, t: Table[Float]) -> Float:
             t[i] = 1.0
             return 0.0
+
+
+@pytest.mark.parametrize("mode", ["clamp", "border"])
+def test_one_load_per_texel_and_one_gather_per_channel_agree(mode):
+    """Where gathers are slow (AMD, Haswell, AArch64) a texel whose channels are adjacent is one
+    load per lane; elsewhere, or for channels apart in memory (checked when the kernel runs), one
+    gather per channel. Both read the same texels; lanes off read nothing; an empty image reads
+    nothing."""
+    def build(target):
+        @kernel(target=target, fma=False)
+        def look(u: Float, v: Float, t: Texture2D[vec4, mode, "linear"]) -> vec4:
+            c = reactor.Variable(vec4, vec4(-1.0))
+            with If(u < 0.9):
+                c.set(t.sample(u, v))
+            return c
+        return look
+
+    assert not reactor.targets.get_target("avx2").fast_gather and reactor.targets.get_target("avx512").fast_gather
+    rng = np.random.default_rng(5)
+    image = rng.random((9, 13, 4)).astype(np.float32)
+    apart = np.moveaxis(np.ascontiguousarray(np.moveaxis(image, -1, 0)), 0, -1)  # channel stride 468 bytes
+    u, v = rng.uniform(-0.3, 1.3, 1000).astype(np.float32), rng.uniform(-0.3, 1.3, 1000).astype(np.float32)
+    runnable = [t for t in ("avx2", "avx512") if reactor.targets.get_target(t).runnable]
+    results = [build(t)(u, v, img) for t in runnable for img in (image, apart)]
+    for got in results[1:]:
+        np.testing.assert_array_equal(got, results[0])
+    assert np.all(results[0][u >= 0.9] == -1)
+    for t in runnable:
+        empty = build(t)(u, v, np.zeros((0, 5, 4), np.float32))
+        assert np.all(empty[u < 0.9] == 0) and np.all(empty[u >= 0.9] == -1)
