@@ -38,7 +38,7 @@ float fbm(vec2 x) {
 layout(location = 0) in float frag_x;
 layout(location = 1) in float frag_y;
 layout(location = 0) out float gray;
-layout(binding = 0) uniform Frame { float height; };
+uniform float height;
 
 void main() {
     gray = fbm(vec2(frag_x, frag_y) / height * 6.0);

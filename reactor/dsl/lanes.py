@@ -106,6 +106,13 @@ class Lanes:
                 mask = both(mask, ~call.returned.value)  # (a loop opened in the call: its alive has it)
         return mask
 
+    def returns_only(self, depth: int) -> bool:
+        """Whether the lanes left out here are only lanes that returned from the function traced at
+        inline ``depth`` (0: the body, k: ``calls[k - 1]``) or from a function around it: none of
+        them reads that function's locals again, so a store to one may ignore them."""
+        f = self.frame
+        return len(self.frames) == 1 and f.loop is None and not f.conds and len(self.calls) == depth
+
     def mask_type(self) -> VType:
         return VType(BOOL, self.width or 1)
 

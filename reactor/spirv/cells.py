@@ -197,18 +197,22 @@ class Lazy:
     """A scalar of a local variable known while building (a Python number) until a DSL value or
     a store under run-time control flow makes it a per-lane Variable (declared at the entry)."""
 
-    __slots__ = ("value", "var", "vtype", "name")
+    __slots__ = ("value", "var", "vtype", "name", "depth")
 
     def __init__(self, value, vtype, name: str) -> None:
         self.value, self.vtype, self.name = value, vtype, name
         self.var: typing.Any = None  # the per-lane Variable, once made
+        self.depth = len(lanes_of().calls)  # the inline depth of the function it is a local of
 
     def load(self):
         return self.value if self.var is None else self.var.value
 
     def store(self, value) -> None:
         from ..dsl.context import active_mask
-        if self.var is None and not isinstance(value, Value) and active_mask() is None:
+        # lanes that returned from its function (or one around it) never read it again: after an
+        # early per-lane return, a loop counter stays known while building (the loop unrolls)
+        if self.var is None and not isinstance(value, Value) and (
+                active_mask() is None or lanes_of().returns_only(self.depth)):
             self.value = value
             return
         self.materialize()

@@ -460,3 +460,28 @@ def test_specialization_constants_by_name_or_id_and_buffers_read_at_constant_ind
     assert np.array_equal(folded(x, np.zeros_like(x)), want)
     with pytest.raises(SpirvError, match="buffer w is indexed by something .* read at constant indices only"):
         reactor.from_glsl(SPECIALIZED.replace("+ w[2]", "+ w[2] + w[i]"), stage="compute")
+
+
+def test_a_loop_after_an_early_return_still_counts_while_building():
+    """Lanes that returned never read the helper's locals again, so its loop counter stays known
+    while building and the loop unrolls (glsl-atmosphere's shape); the results stay per lane."""
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) in float x;
+layout(location = 0) out float result;
+float steps(float v) {
+    if (v < 0.0) return -1.0;
+    float s = 0.0;
+    for (int i = 0; i < 4; i++) { s += v * float(i); v = v * 0.5; }
+    return s;
+}
+void main() { result = steps(x) + 1.0; }""")
+    x = RNG.uniform(-2, 2, 37).astype(F)
+
+    def steps(v):
+        if v < 0:
+            return F(-1)
+        s = F(0)
+        for i in range(4):
+            s, v = F(s + F(v * F(i))), F(v * F(0.5))
+        return s
+    assert np.array_equal(shade(x), [F(steps(v) + F(1)) for v in x])
