@@ -57,8 +57,10 @@ def routine_call(name: str) -> typing.Iterator[None]:
 
 
 def where_called() -> str:
-    """The user's "file:line" being built (what ``RoutineCall.where`` and a ``Site`` name)."""
-    loc = user_location()
+    """The user's "file:line" being built (what ``RoutineCall.where`` and a ``Site`` name): the
+    front end's location where it gives one (a shader's line, from SPIR-V's ``OpLine``)."""
+    em = _em.current() if _em.building() else None
+    loc = (em.locate() if em is not None and em.locate is not None else None) or user_location()
     return f"{loc[0]}:{loc[1]}" if loc else ""
 
 

@@ -28,7 +28,7 @@ from ..build import Site
 from ..errors import ReactorError
 from .domains import MAX_ROWS, Range, Rows
 from .outputs import Output
-from .search import TIERS, Search, _short
+from .search import TIERS, Search, _short, reference_sites
 
 __all__ = ["plan", "Plan", "Range", "Rows", "PlanStaleError"]
 
@@ -48,16 +48,24 @@ class SiteReport:
     below_changes: int | None  # outputs changed with this site at ``below`` (the rest as planned)
     below_example: dict | None  # one input row that shows it
     saving: float  # modelled cycles per element saved against the reference at this site alone
+    source: str | None = None  # the tier the source sets here (GLSL mediump: relaxed), None: none
+    source_changes: int | None = None  # outputs changed with this site at ``source`` alone
 
     def text(self) -> str:
         saved = f"{self.saving:+.2f}" if self.saving else "     "
         head = f"{self.routine:<6} {_short(self.where):<22} {self.tier:<8} {saved:>6}"
         if self.below is None:
-            return head + "  (the cheapest tier)"
-        example = ""
-        if self.below_example:
-            example = "  e.g. " + ", ".join(f"{k}={_fmt(v)}" for k, v in self.below_example.items())
-        return head + f"  {self.below}: changes {self.below_changes:,}{example}"
+            line = head + "  (the cheapest tier)"
+        else:
+            example = ""
+            if self.below_example:
+                example = "  e.g. " + ", ".join(f"{k}={_fmt(v)}" for k, v in self.below_example.items())
+            line = head + f"  {self.below}: changes {self.below_changes:,}{example}"
+        if self.source is not None:
+            verdict = "safe: the stored output is the same" if not self.source_changes else \
+                f"changes {self.source_changes:,} stored outputs"
+            line += f"\n  {'':<6} {'':<22} the source asks {self.source} here: {verdict}"
+        return line
 
 
 @dataclasses.dataclass
@@ -127,7 +135,7 @@ class Plan:
         from ..kernels.kernel import kernel_of
         from ..kernels.kernel import build_kernel
         k = kernel_of(ufunc)
-        reference = _rebuild(k, build_kernel, (), TIERS[-1])
+        reference = _rebuild(k, build_kernel, reference_sites(k), TIERS[-1])
         now = fingerprint(kernel_of(reference), self.sites)
         if now != self.fingerprint:
             raise PlanStaleError(f"the plan for '{self.kernel}' was made for other code: the kernel or a "
@@ -169,13 +177,21 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
         tier = chosen.get((where, routine), TIERS[-1])
         saved = [search.reference.cycles - c.cycles for t, c in alone_rows if t == tier]
         b = below.get((where, routine))
+        source = search.authored.get((where, routine))
+        source_changes = None if source is None else 0 if source == TIERS[-1] else \
+            next((c.changed for t, c in alone_rows if t == source), None)
         reports.append(SiteReport(where, routine, tier, b[0] if b else None, b[1].changed if b else None,
-                                  b[1].example if b else None, saved[0] if saved else 0.0))
+                                  b[1].example if b else None, saved[0] if saved else 0.0, source, source_changes))
+    written = search.as_written()
+    sites = search.pinned(sites)
     cycles, changes, ufuncs = {}, {}, {}
     for tier in TIERS:
         cand = search.reference if tier == TIERS[-1] else search.compare(search.build((), tier))
         label = f"all {tier}"
         cycles[label], changes[label], ufuncs[label] = cand.cycles, max(cand.changed, 0), cand.ufunc
+    if written is not None:
+        cycles["as written"], changes["as written"], ufuncs["as written"] = \
+            written.cycles, written.changed, written.ufunc
     cycles["plan"], changes["plan"], ufuncs["plan"] = best.cycles, best.changed, best.ufunc
     times = _time(search, ufuncs, timing_rows)
     result = Plan(search.kernel.name, sites, reports, output if not isinstance(output, Output) else output.spec,

@@ -75,6 +75,9 @@ class Search:
         self.builds = 0
         self.build_seconds = 0.0
         self.top = TIERS[-1]
+        #: the sites whose tier the source itself sets (GLSL's mediump, ``precision=`` at a call):
+        #: every build pins them (the reference at the top tier), so they are planned like the rest
+        self.authored = authored(self.kernel)
         self.reference = self.build((), self.top)
         self.ref_out = self.run(self.reference.ufunc, self.check)
         self.sites = [(c.where, c.name) for c in self.kernel_of(self.reference.ufunc).routines if c.where]
@@ -86,10 +89,13 @@ class Search:
         return kernel_of(ufunc)
 
     def build(self, sites: tuple, precision: str) -> Candidate:
-        """The kernel with ``sites`` (Site objects) and every other routine at ``precision``."""
+        """The kernel with ``sites`` (Site objects) and every other routine at ``precision``, the
+        sites the source sets included."""
         from ..kernels.kernel import build_kernel
         k = self.kernel
         b = k.build
+        given = {(s.where, s.routine) for s in sites}
+        sites = tuple(sites) + tuple(Site(w, r, precision, self.fma) for w, r in self.authored if (w, r) not in given)
         t0 = time.perf_counter()
         ufunc = build_kernel(k.body, name=k.name, args=list(k.signature.params), returns=k.signature.returns,
                              fma=b.fma if self.fma is None else self.fma, width=b.width, opt=b.opt,
@@ -153,6 +159,20 @@ class Search:
             found[(where, routine)] = rows
         return found
 
+    def as_written(self) -> Candidate | None:
+        """The kernel with the tiers its source sets (None where it sets none), compared."""
+        if not self.authored:
+            return None
+        return self.compare(self.build(tuple(Site(w, r, t, self.fma) for (w, r), t in self.authored.items()),
+                                       self.top))
+
+    def pinned(self, sites: tuple) -> tuple:
+        """``sites`` with the source's own sites that it leaves out at the top tier (a plan
+        rebuilt from its sites must not fall back to the source's tier)."""
+        given = {(s.where, s.routine) for s in sites}
+        return tuple(sorted(tuple(sites) + tuple(Site(w, r, self.top, self.fma) for w, r in self.authored
+                                                 if (w, r) not in given)))
+
     def together(self, alone: dict) -> tuple[tuple, Candidate]:
         """Lower the harmless sites one by one (largest saving first), keeping what stays exact."""
         options = []
@@ -193,6 +213,17 @@ class Search:
             except ReactorError:
                 report[(where, routine)] = None
         return report
+
+
+def authored(kernel) -> dict:
+    """{(where, routine): tier} of the call sites whose tier the kernel's source sets itself."""
+    default = kernel.build.precision.value
+    return {(c.where, c.name): c.precision for c in kernel.routines if c.where and c.precision != default}
+
+
+def reference_sites(kernel) -> tuple:
+    """The sites that make ``kernel``'s reference build: its source's own, at the top tier."""
+    return tuple(sorted(Site(w, r, TIERS[-1]) for w, r in authored(kernel)))
 
 
 def _code(cand) -> str:
