@@ -57,8 +57,61 @@ def _python(r):
 
 
 def _tdiv(a: int, b: int) -> int:
+    """int32 division truncated toward zero, as the kernel computes it: x / 0 is 0 (GLSL leaves it
+    undefined; no lane traps), INT_MIN / -1 wraps to INT_MIN."""
+    if b == 0:
+        return 0
     q = abs(a) // abs(b)
     return q if (a < 0) == (b < 0) else -q
+
+
+def _trem(a: int, b: int) -> int:
+    return 0 if b == 0 else a - b * _tdiv(a, b)
+
+
+def _u32(a: int) -> int:
+    return a & 0xFFFFFFFF
+
+
+def _smod(a, b):
+    """OpSMod on DSL values: the remainder with the divisor's sign (x mod 0 is 0)."""
+    from ..dsl.intrinsics import Select
+    r = a % b
+    return Select((r != 0) & ((r < 0) != (b < 0)), r + b, r)
+
+
+def _unsigned(op):
+    """An operation on uint32 values (kept as Int bits): done on their UInt view."""
+    from ..dsl.intrinsics import As
+
+    def run(*xs):
+        uint = [As(value_class(VType(KINDS["UInt"], x.width)), x) for x in xs]
+        return As(value_class(VType(KINDS["Int"], xs[0].width)), op(*uint))
+    return run
+
+
+def _uint_to_float(x):
+    """A uint32 (kept as Int bits) to float, rounded."""
+    from ..dsl.intrinsics import As
+    if not isinstance(x, Value):
+        return float(np.float32(_u32(int(x))))
+    return value_class(VType(KINDS["Float"], x.width))(As(value_class(VType(KINDS["UInt"], x.width)), x))
+
+
+def _float_to_uint(x):
+    """A float to uint32 (kept as Int bits): NaN and negatives 0, too large the largest."""
+    from ..dsl.intrinsics import As, Select
+    if not isinstance(x, Value):
+        return _python(0 if x != x else int(min(max(x, 0.0), 2.0 ** 32 - 1)))
+    uint, int_ = (value_class(VType(KINDS[k], x.width)) for k in ("UInt", "Int"))
+    return As(int_, Select(x == x, uint(x), uint(0)))
+
+
+def _to_int32(x: float) -> int:
+    """float to int32 while building, as the kernel's conversion: NaN 0, out of range clamped."""
+    if x != x:
+        return 0
+    return int(min(max(x, -2.0 ** 31), 2.0 ** 31 - 1))
 
 
 def _fmul(a, b):
@@ -74,7 +127,7 @@ def _convert(kind: str):
 
     def convert(x):
         if not isinstance(x, Value):
-            return float(np.float32(x)) if kind == "Float" else int(x)
+            return float(np.float32(x)) if kind == "Float" else _to_int32(x) if isinstance(x, float) else int(x)
         if kind == "Int" and x.kind.is_float:
             return ToInt(x)
         return value_class(VType(KINDS[kind], x.width))(x)
@@ -123,8 +176,12 @@ OPS: dict[str, typing.Callable] = {
     "OpFDiv": _fl(lambda a, b: a / b), "OpFNegate": _fl(lambda a: -a),
     "OpFMod": _fl(_fmod, lambda a, b: a - b * np.floor(a / b)),
     "OpIAdd": _int(lambda a, b: a + b), "OpISub": _int(lambda a, b: a - b), "OpIMul": _int(lambda a, b: a * b),
-    "OpSNegate": _int(lambda a: -a), "OpSDiv": _int(lambda a, b: a // b, _tdiv),
-    "OpSRem": _int(lambda a, b: a % b, lambda a, b: a - b * _tdiv(a, b)), "OpSMod": _int(lambda a, b: a % b),
+    "OpSNegate": _int(lambda a: -a), "OpSDiv": _int(lambda a, b: a / b, _tdiv),
+    "OpSRem": _int(lambda a, b: a % b, _trem),
+    "OpSMod": _int(_smod, lambda a, b: 0 if b == 0 else a % b),
+    "OpUDiv": _int(_unsigned(lambda a, b: a / b), lambda a, b: 0 if _u32(b) == 0 else _u32(a) // _u32(b)),
+    "OpUMod": _int(_unsigned(lambda a, b: a % b), lambda a, b: 0 if _u32(b) == 0 else _u32(a) % _u32(b)),
+    "OpShiftRightLogical": _int(_unsigned(lambda a, b: a >> b), lambda a, b: _u32(a) >> (b & 31)),
     "OpBitwiseAnd": _int(lambda a, b: a & b), "OpBitwiseOr": _int(lambda a, b: a | b),
     "OpBitwiseXor": _int(lambda a, b: a ^ b), "OpNot": _int(lambda a: ~a),
     "OpShiftLeftLogical": _int(lambda a, b: a << b), "OpShiftRightArithmetic": _int(lambda a, b: a >> b),
@@ -145,6 +202,7 @@ OPS: dict[str, typing.Callable] = {
     "OpLogicalEqual": _bool(lambda a, b: ~(a ^ b), lambda a, b: a == b),
     "OpLogicalNotEqual": _bool(lambda a, b: a ^ b, lambda a, b: a != b),
     "OpConvertSToF": _convert("Float"), "OpConvertFToS": _convert("Int"),
+    "OpConvertUToF": _arith(lambda x: _uint_to_float(x)), "OpConvertFToU": _arith(lambda x: _float_to_uint(x)),
     "OpSelect": _select, "OpAll": _reduce(_AND), "OpAny": _reduce(_OR),
 }
 

@@ -485,3 +485,35 @@ void main() { result = steps(x) + 1.0; }""")
             s, v = F(s + F(v * F(i))), F(v * F(0.5))
         return s
     assert np.array_equal(shade(x), [F(steps(v) + F(1)) for v in x])
+
+
+def test_integer_division_and_unsigned_arithmetic_never_trap():
+    """int and uint /, %, >> and conversions, on hostile operands: a division by zero gives 0
+    (GLSL leaves it undefined; no lane traps), INT_MIN / -1 wraps, uint is unsigned."""
+    shade = reactor.from_glsl("""#version 450
+layout(location = 0) flat in int a;
+layout(location = 1) flat in int b;
+layout(location = 0) out ivec4 signed_;
+layout(location = 1) out uvec4 unsigned_;
+layout(location = 2) out float as_float;
+void main() {
+    signed_ = ivec4(a / b, a % b, a >> 3, -a);
+    uint ua = uint(a), ub = uint(b);
+    unsigned_ = uvec4(ua / ub, ua % ub, ua >> 3, ua * 3u);
+    as_float = float(ua);
+}""")
+    edge = np.array([0, 1, -1, 7, -7, 2, 3, 2**31 - 1, -2**31, 1000003, -65536], np.int64)
+    a, b = (x.ravel() for x in np.meshgrid(edge, edge))
+    signed_, unsigned_, as_float = shade(a.astype(np.int32), b.astype(np.int32))
+
+    def wrap(x):
+        return ((np.asarray(x, np.int64) + 2**31) % 2**32 - 2**31).astype(np.int32)
+    safe = np.where(b == 0, 1, b)
+    q = np.where(b == 0, 0, np.sign(a) * np.sign(safe) * (np.abs(a) // np.abs(safe)))
+    smod = np.where(b == 0, 0, np.mod(a, safe))  # glslang writes GLSL's % as OpSMod
+    ua, ub = a % 2**32, b % 2**32
+    assert np.array_equal(signed_, np.stack([wrap(q), wrap(smod), wrap(a >> 3), wrap(-a)], -1))
+    uq = np.where(ub == 0, 0, ua // np.where(ub == 0, 1, ub))
+    ur = np.where(ub == 0, 0, ua % np.where(ub == 0, 1, ub))
+    assert np.array_equal(unsigned_.astype(np.int64) % 2**32, np.stack([uq, ur, ua >> 3, ua * 3 % 2**32], -1))
+    assert np.array_equal(as_float, ua.astype(np.float32))
