@@ -182,15 +182,15 @@ class TextureValue:
         em = _em.current()
         width = max(w for _, _, w in located.values())
         if not self._by_rows(em, width):
-            return _blend({c: self._texels_at(em, *where, normalize=True) for c, where in located.items()}, fracs)
+            return _blend({c: self._texels_at(em, o, m, w, normalize=True) for c, (o, m, w) in located.items()}, fracs)
         head = em.block
         with em.if_else(self._adjacent(em), name="texels") as (rows, gathers):
             with rows:
                 by_rows = self._blend_rows(em, located, fracs, width)
                 rows_end = em.block
             with gathers:
-                gathered = _blend({c: self._texels_at(em, *where, normalize=True, rows=False)
-                                   for c, where in located.items()}, fracs)
+                gathered = _blend({c: self._texels_at(em, o, m, w, normalize=True, rows=False)
+                                   for c, (o, m, w) in located.items()}, fracs)
                 gathered = [x.ir for x in gathered._c]
                 gathers_end = em.block
         f32 = VType(KINDS["Float"], width)
@@ -237,7 +237,8 @@ class TextureValue:
 
     def _texels(self, coords, normalize: bool):
         """Gather the texels at integer ``coords`` (x first) with the wrap mode."""
-        return self._texels_at(_em.current(), *self._locate(coords), normalize=normalize)
+        offset, mask, width = self._locate(coords)
+        return self._texels_at(_em.current(), offset, mask, width, normalize=normalize)
 
     def _locate(self, coords):
         """(byte offsets, lanes that read, width) of the texels at integer ``coords`` (x first),

@@ -125,7 +125,7 @@ class Translator:
         """Every name in ``uniforms`` is a uniform, a specialization constant or a buffer read at
         constant indices of this shader: a misspelt one is an error, not a silent default."""
         d = self.decl
-        known = {d.member_names.get((d.pointee[var.type], k), "") for vid, var in d.globals.items()
+        known: set = {d.member_names.get((d.pointee[var.type], k), "") for vid, var in d.globals.items()
                  if var.args[0] == "Uniform" and d.types[var.type].elem.kind == "struct"
                  for k in range(len(d.types[var.type].elem.members))}
         known |= {d.names.get(cid) for cid in d.spec_constants} | {n for _, _, _, n, _ in self.buffers}
