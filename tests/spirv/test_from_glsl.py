@@ -517,3 +517,23 @@ void main() {
     ur = np.where(ub == 0, 0, ua % np.where(ub == 0, 1, ub))
     assert np.array_equal(unsigned_.astype(np.int64) % 2**32, np.stack([uq, ur, ua >> 3, ua * 3 % 2**32], -1))
     assert np.array_equal(as_float, ua.astype(np.float32))
+
+
+def test_glslang_in_this_process_writes_what_the_command_writes():
+    """With the cmeel wheel, glslang runs in this process (its C interface): the same code as
+    ``glslangValidator -V -g -R --aml --amb``, debug text aside, and errors at the line."""
+    from reactor.spirv import glsl
+    from reactor.spirv.binary import decode
+    lib = glsl._library()
+    if lib is None:
+        pytest.skip("glslang's library is not the cmeel wheel's glslang 13: the command is used")
+    tool, env = glsl.glslang()
+    debug = {"OpSource", "OpSourceContinued", "OpString", "OpLine", "OpNoLine", "OpModuleProcessed"}
+
+    def code(spirv):
+        return [(i.op, i.type, i.id, i.args) for i in decode(spirv).instructions if i.op not in debug]
+    for source in (LOOPS, CONTROL, COMPUTE):
+        stage = "compute" if "local_size_x" in source else "fragment"
+        assert code(lib.compile(source, stage, "x.glsl")) == code(glsl._run_glslang(tool, env, None, source, stage))
+    with pytest.raises(glsl.glslang_lib.CompileError, match=r"ERROR: x\.glsl:2: 'nope' : undeclared"):
+        lib.compile("#version 450\nvoid main() { float a = nope; }\n", "fragment", "x.glsl")
