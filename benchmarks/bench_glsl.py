@@ -29,6 +29,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "examples" / "glsl" / "corpus"))
 import corpus  # noqa: E402
+from llvmpipe_run import best_time  # noqa: E402
 
 GL_WEBGL = """#version 330
 #define varying in
@@ -118,13 +119,17 @@ def llvmpipe(spec: dict, threads: int, tmp: str) -> dict | None:
     return json.loads(run.stdout.strip().splitlines()[-1])
 
 
-def best_time(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
+def peer_runs(spec: dict, tmp: str, row: dict, key: str, accuracy) -> dict:
+    """llvmpipe's runs of ``spec``, one thread and two, into ``row`` (its accuracy under ``key``,
+    ``accuracy`` of what it wrote); the row as it is where llvmpipe is absent."""
+    for threads in (1, 2):
+        got = llvmpipe(spec, threads, tmp)
+        if got is None:
+            return row
+        row[f"llvmpipe_{threads}_ms"], row["llvmpipe_first_ms"] = got["best"] * 1e3, got["first"] * 1e3
+        row["renderer"] = got["renderer"]
+        row[key] = accuracy(np.load(spec["out"]))
+    return row
 
 
 def run_fragment(shader: corpus.Shader, a, tmp: str) -> dict:
@@ -152,14 +157,7 @@ def run_fragment(shader: corpus.Shader, a, tmp: str) -> dict:
             "uniforms": {k: list(v) if isinstance(v, tuple) else v for k, v in uniforms.items()},
             "texture": texture if shader.texture else None, "sampler": _sampler(fragment),
             "width": w, "height": h, "repeat": a.repeat, "out": out_path}
-    for threads in (1, 2):
-        got = llvmpipe(spec, threads, tmp)
-        if got is None:
-            return row
-        row[f"llvmpipe_{threads}_ms"], row["llvmpipe_first_ms"] = got["best"] * 1e3, got["first"] * 1e3
-        row["renderer"] = got["renderer"]
-        row["llvmpipe_codes"] = code_errors(np.load(out_path), reference)
-    return row
+    return peer_runs(spec, tmp, row, "llvmpipe_codes", lambda image: code_errors(image, reference))
 
 
 def run_compute(shader: corpus.ComputeShader, a, tmp: str) -> dict:
@@ -184,15 +182,7 @@ def run_compute(shader: corpus.ComputeShader, a, tmp: str) -> dict:
     out_path = os.path.join(tmp, "buffers.npy")
     spec = {"kind": "compute", "compute": gl_compute(shader.source(), shader.uniforms), "buffers": paths,
             "groups": a.elements, "written": list(shader.written), "repeat": a.repeat, "out": out_path}
-    for threads in (1, 2):
-        got = llvmpipe(spec, threads, tmp)
-        if got is None:
-            return row
-        row[f"llvmpipe_{threads}_ms"], row["llvmpipe_first_ms"] = got["best"] * 1e3, got["first"] * 1e3
-        row["renderer"] = got["renderer"]
-        buffers = np.load(out_path)
-        row["llvmpipe_ulps"] = ulp_error(list(buffers), reference)
-    return row
+    return peer_runs(spec, tmp, row, "llvmpipe_ulps", lambda buffers: ulp_error(list(buffers), reference))
 
 
 def _sampler(fragment: str) -> str | None:

@@ -40,7 +40,7 @@ def fragment(ctx, spec: dict):
         ctx.finish()
     draw()
     first = time.perf_counter() - t0
-    best = _best(draw, spec["repeat"])
+    best = best_time(draw, spec["repeat"])
     np.save(spec["out"], np.frombuffer(fbo.read(components=4, dtype="f4"), np.float32).reshape(h, w, 4))
     return first, best
 
@@ -62,12 +62,13 @@ def compute(ctx, spec: dict):
         buf.write(a.astype("f4").tobytes())
     run()
     out = np.stack([np.frombuffer(buffers[k].read(), np.float32)[:spec["groups"]] for k in spec["written"]])
-    best = _best(run, spec["repeat"])
+    best = best_time(run, spec["repeat"])
     np.save(spec["out"], out)
     return first, best
 
 
-def _best(fn, repeat: int) -> float:
+def best_time(fn, repeat: int) -> float:
+    """The best of ``repeat`` timed calls of ``fn`` (s)."""
     times = []
     for _ in range(repeat):
         t0 = time.perf_counter()
