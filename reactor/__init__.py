@@ -21,7 +21,7 @@ from .dsl import flow  # the control-flow core as plain calls, for front ends
 from .dsl.syntax import hint, inline, syntax
 from .spirv import from_glsl, from_spirv
 from .spirv import set_builtins as set_glsl_builtins
-from .dsl.calls import RoutineCall, routine_call, site_choice
+from .dsl.calls import RoutineCall, pure_call, routine_call, site_choice
 from .dsl.signature import SIMD, Pointer
 from .dsl.textures import ConstantTable, Table, Texture2D, Texture3D
 from .dsl.values import Value, set_power, vector_type
@@ -84,7 +84,7 @@ __all__ = [
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
     "Function", "function", "Module", "CompiledModule", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
-    "configure_threads", "thread_settings", "RoutineCall", "routine_call", "site_choice", "explain",
+    "configure_threads", "thread_settings", "RoutineCall", "routine_call", "pure_call", "site_choice", "explain",
     "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow", "hint", "syntax", "from_glsl", "from_spirv", "set_glsl_builtins",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",

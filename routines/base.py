@@ -77,8 +77,11 @@ def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
         if chosen is not None:
             precision, fma = chosen.precision, chosen.fma if chosen.fma is not None else fma
         level = check_tier(check_precision(precision, fn.__name__), fn.__name__)
-        with fma_mode(fma), reactor.precision(level), reactor.routine_call(fn.__name__):
-            return fn(*args, precision=level, **kwargs)
+        def emit() -> Value:
+            with reactor.routine_call(fn.__name__):
+                return fn(*args, precision=level, **kwargs)
+        with fma_mode(fma), reactor.precision(level):
+            return reactor.pure_call(fn.__name__, (level.value, fma), args, kwargs, emit)
 
     return build
 

@@ -75,6 +75,72 @@ def site_choice(name: str):
     return em.settings.site(name, where_called())
 
 
+# -- the same pure call, emitted once ------------------------------------------------------------
+
+def call_key(name: str, settings: tuple, args: tuple, options: dict) -> tuple | None:
+    """What identifies a pure call while building: the routine, its settings, each DSL operand by
+    its IR value (the same SSA value) and each Python operand by its value; None where an operand
+    is neither (the call is then emitted as usual)."""
+    from .values import Value
+    if not _em.building():
+        return None
+    parts = []
+    for a in (*args, *sorted(options.items())):
+        a = a[1] if isinstance(a, tuple) and len(a) == 2 and isinstance(a[0], str) else a
+        if isinstance(a, Value):
+            parts.append(("v", id(a._ir)))
+        elif isinstance(a, (bool, int, float, str, type(None))):
+            parts.append(("n", type(a).__name__, repr(a)))
+        else:
+            return None
+    return (name, settings, tuple(sorted(options)), tuple(parts))
+
+
+def reuse(key: tuple | None):
+    """The result of the call ``key`` emitted earlier in this function where that result is still
+    visible here (its block has not ended, it dominates this point), else None. Inside another
+    routine, nothing is reused."""
+    if key is None or not _em.building():
+        return None
+    em = _em.current()
+    if em.module.routine_depth:
+        return None
+    found = em.pure_calls.get(key)
+    if found is None:
+        return None
+    result = found[0]
+    values = result if isinstance(result, tuple) else (result,)
+    if all(v._emitter is em and not v._scope.closed and em.in_chain(v._ir) for v in values):
+        return result
+    del em.pure_calls[key]
+    return None
+
+
+def remember(key: tuple | None, result, args: tuple) -> None:
+    """Keep ``result`` for :func:`reuse` (``args`` kept alive, so their ids stay theirs)."""
+    from .values import Value
+    if key is None or not _em.building():
+        return
+    em = _em.current()
+    values = result if isinstance(result, tuple) else (result,)
+    if em.module.routine_depth == 0 and all(isinstance(v, Value) for v in values):
+        em.pure_calls[key] = (result, args)
+
+
+def pure_call(name: str, settings: tuple, args: tuple, options: dict, emit: typing.Callable[[], typing.Any]):
+    """``emit()``'s result (it emits the routine inside ``routine_call(name)``); where the same pure call (routine ``name`` with ``settings`` on the same
+    operands) was emitted earlier in this function and its result is visible here, that result
+    (``cos(x) + cos(x)`` computes one cosine)."""
+    key = call_key(name, settings, args, options)
+    found = reuse(key)
+    if found is not None:
+        with routine_call(name):  # recorded all the same: a plan lists (and may set) this site too
+            return found
+    result = emit()
+    remember(key, result, args)
+    return result
+
+
 def calls_of(module) -> list[RoutineCall]:
     """The routines a module's build recorded, in order of first use."""
     return list(module.routine_calls)

@@ -294,6 +294,7 @@ class FunctionEmitter:
         self.locate: typing.Callable[[], tuple[str, int] | None] | None = None
         self.tail_body = False  # a kernel's width-1 body beside its vector body (a column of its own)
         self._at_finish: list[typing.Callable[[set], None]] = []  # given the ids of the values used
+        self.pure_calls: dict = {}  # pure calls emitted (dsl.calls.reuse): key -> (result, operands)
         fnty = ir.FunctionType(_llvm(ret), [_llvm(p) for p in params])
         self.function = ir.Function(module.module, fnty, name=name)
         for arg, argname in zip(self.function.args, param_names):
