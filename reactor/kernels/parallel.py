@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import hashlib
 import os
 import threading
 from typing import NamedTuple
@@ -38,8 +39,10 @@ from ..ir import emitter as _em
 from ..ir import ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
-from ..jit.compiler import CompiledCode
+from ..jit import cache
+from ..jit.compiler import CompiledCode, cached_object
 from . import abi
+from .recipe import library_digest
 
 #: Chunks are multiples of this many elements, so vector loops stay whole.
 ALIGN = 64
@@ -149,12 +152,26 @@ def runtime(target: str = "host") -> CompiledCode:
     of each kernel's code). The host's is loaded into this process; another target's is object
     code to link elsewhere (``reactor.kernels.qemu``)."""
     build = BuildOptions(target=target, width=1).resolved()
-    module = _em.ModuleEmitter("reactor.parallel", build)
-    _emit_runtime(module)
-    _emit_prepare(module)
-    _emit_raise(module)
-    _emit_move(module)
-    return CompiledCode(module.text, build.target, build.opt, RUNTIME_EXPORTS, build.cache)
+
+    def ir_text() -> str:
+        module = _em.ModuleEmitter("reactor.parallel", build)
+        _emit_runtime(module)
+        _emit_prepare(module)
+        _emit_raise(module)
+        _emit_move(module)
+        return module.text
+    # its IR depends only on reactor's sources and the target: a fresh process loads it from the
+    # disk cache under that recipe without building the IR (the first kernel's disk hit stays fast)
+    recipe = hashlib.sha256(f"reactor runtime|{library_digest()}|{build.target.key()}|{build.opt}".encode()).hexdigest()
+    found = cache.recipe_get(recipe, build.cache)
+    if found:
+        obj, source = cached_object(found["ir_key"], build.cache)
+        if obj is not None:
+            return CompiledCode(None, build.target, build.opt, RUNTIME_EXPORTS, build.cache, key=found["ir_key"],
+                                obj=obj, source=source, ir_source=ir_text)
+    code = CompiledCode(ir_text(), build.target, build.opt, RUNTIME_EXPORTS, build.cache)
+    cache.recipe_put(recipe, {"ir_key": code.key}, build.cache)
+    return code
 
 
 def _emit_raise(module) -> None:

@@ -10,7 +10,8 @@ signature and build settings). The file and line numbers count too (the
 user's lines are in error messages, routine call sites and plans). A value
 that is not a number, string, bytes, bool, None, a tuple of those, a module of
 a known library, a reactor object that states its value (an enum, a frozen
-dataclass) or a Python function makes the key ``None``: such a body is traced
+dataclass), a constant vector or matrix (a module's ``vec3``) or a Python
+function makes the key ``None``: such a body is traced
 (its IR is the key then), so a stale object is never linked. Builtins count by
 name.
 
@@ -33,6 +34,7 @@ from ..dsl.external import External
 from ..dsl.definition import FunctionDef
 from ..dsl.signature import GenericType
 from ..dsl.values import Value
+from ..dsl.vectors import Mat, Vec
 from ..errors import library_dirs
 from ..jit.compiler import toolchain
 
@@ -84,7 +86,7 @@ class _Hasher:
 
     def put(self, *parts) -> None:
         for p in parts:
-            self.h.update(repr(p).encode())
+            self.h.update(b"\1" + p if isinstance(p, bytes) else repr(p).encode())  # bytes as they are: fast
             self.h.update(b"\0")
 
     def code(self, code: types.CodeType, scope: dict) -> None:
@@ -138,6 +140,15 @@ class _Hasher:
             self.put(type(v).__name__, len(v))
             for item in (sorted(v, key=repr) if isinstance(v, frozenset) else v):
                 self.value(item)
+        elif isinstance(v, Vec) and all(isinstance(c, _SIMPLE) for c in v._comps):
+            # a constant vector (a module's vec3): its components, watched (a swizzle assignment replaces them)
+            self.put("vector", type(v).__name__, v._comps)
+            self.watch.append((v, "_comps", v._comps))
+        elif isinstance(v, Mat) and all(isinstance(c, _SIMPLE) for col in v._cols for c in col._comps):
+            self.put("matrix", type(v).__name__, tuple(col._comps for col in v._cols))
+            self.watch.append((v, "_cols", v._cols))
+            for col in v._cols:
+                self.watch.append((col, "_comps", col._comps))
         elif isinstance(v, type) and issubclass(v, Value):
             self.put("value type", v.__name__)
         elif isinstance(v, GenericType):
@@ -169,7 +180,7 @@ class _Hasher:
                 isinstance(v, enum.Enum) or dataclasses.is_dataclass(v) and getattr(v, "__dataclass_params__").frozen):
             # a reactor object that states its value (a Precision, a Target ...): its state by repr
             self.put("library object", type(v).__qualname__, repr(v))
-        else:  # anything else (a constant vec3 or mat3, a user's object) is traced
+        else:  # anything else (a user's object, a vector holding DSL values) is traced
             raise Unkeyable(type(v).__name__)
 
 

@@ -199,14 +199,28 @@ def test_a_body_moved_to_other_lines_is_a_miss():
     assert kernel_of(b).routines[0].where.endswith(":7")
 
 
-def test_constant_vectors_and_matrices_are_traced_not_keyed_by_repr():
+def test_constant_vectors_and_matrices_are_keyed_by_their_values(traces):
+    """A module's vec3 or a closure's mat2 keys the recipe by its components: a warm build skips
+    tracing, and another value (rebound, or changed in place by a swizzle) is another build."""
     x = np.arange(4, dtype=np.float32)
-    outs = []
-    for scale in (1.0, 2.0):
+    outs, keys = [], []
+    for scale in (1.0, 2.0, 1.0):
         m = reactor.mat2(scale)
 
         def body(v: Float) -> Float:
             return (m @ reactor.vec2(v, 1.0)).x
-        assert kernel_of(kernel(body, name="mat_probe")).recipe is None
-        outs.append(kernel(body, name="mat_probe")(x))
-    assert np.array_equal(outs[0], x) and np.array_equal(outs[1], 2 * x)
+        k = kernel(body, name="mat_probe")
+        keys.append(kernel_of(k).recipe)
+        outs.append(k(x))
+    assert None not in keys and keys[0] != keys[1] and keys[0] == keys[2]
+    assert np.array_equal(outs[0], x) and np.array_equal(outs[1], 2 * x) and np.array_equal(outs[2], x)
+    light = reactor.vec3(0.5, 0.25, 2.0)
+
+    def lit(v: Float) -> Float:
+        return (light * v).z
+    assert np.array_equal(kernel(lit, name="vec_probe")(x), 2 * x)
+    light.z = 3.0  # in place: the same object, other components
+    assert np.array_equal(kernel(lit, name="vec_probe")(x), 3 * x)
+    _fresh()
+    traced = len(traces)
+    assert np.array_equal(kernel(lit, name="vec_probe")(x), 3 * x) and len(traces) == traced  # from the recipe

@@ -265,7 +265,7 @@ def test_cache_command_shows_and_clears(tmp_path):
     info = subprocess.run([sys.executable, "-m", "reactor", "cache", "info"], capture_output=True, text=True,
                           env=env, cwd=ROOT)
     assert info.returncode == 0 and str(d) in info.stdout and "usable     yes" in info.stdout
-    assert "objects, 1 recipes" in info.stdout
+    assert "objects, 2 recipes" in info.stdout  # the kernel's, and the shared runtime's
     clear = subprocess.run([sys.executable, "-m", "reactor", "cache", "clear"], capture_output=True, text=True,
                            env=env, cwd=ROOT)
     assert clear.returncode == 0 and "removed" in clear.stdout
