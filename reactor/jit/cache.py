@@ -37,7 +37,8 @@ MEMORY_ENTRIES = 512
 DEFAULT_SIZE = 256 << 20
 _MAGIC = b"RXCACHE1"
 _SECRET = "secret.key"
-_SUFFIXES = (".o", ".r", ".w", ".s")  # objects, recipes, rewritten Python (reactor.syntax), SPIR-V of GLSL
+_SUFFIXES = (".o", ".r", ".w", ".s", ".d")  # objects, recipes, rewritten Python (reactor.syntax), SPIR-V of GLSL,
+# the digest of the library sources (kernels.recipe)
 _memory: "collections.OrderedDict[str, bytes]" = collections.OrderedDict()
 _memory_lock = threading.Lock()
 

@@ -36,6 +36,7 @@ from ..dsl.signature import GenericType
 from ..dsl.values import Value
 from ..dsl.vectors import Mat, Vec
 from ..errors import library_dirs
+from ..jit import cache
 from ..jit.compiler import toolchain
 
 _SIMPLE = (int, float, complex, str, bytes, bool, type(None))
@@ -49,18 +50,35 @@ class Unkeyable(Exception):
 
 @functools.cache
 def _library_digest(dirs: tuple[str, ...]) -> str:
-    """SHA-256 over the Python sources of reactor and the registered builder libraries."""
+    """SHA-256 over the Python sources of reactor and the registered builder libraries. Kept in
+    the disk cache under the files' names, sizes and modification times, so a process whose
+    sources are as the last one saw them reads none of them."""
+    sources = _sources(dirs)
+    index = "d" + hashlib.sha256(repr((toolchain(), [(rel, st.st_size, st.st_mtime_ns)
+                                                     for rel, _, st in sources])).encode()).hexdigest()[:40]
+    known = cache.disk_get(index, ".d")
+    if known is not None:
+        return known.decode()
     h = hashlib.sha256(toolchain().encode())
+    for rel, path, _ in sources:
+        h.update(rel.encode())
+        with open(path, "rb") as f:
+            h.update(f.read())
+    cache.disk_put(index, h.hexdigest().encode(), ".d")
+    return h.hexdigest()
+
+
+def _sources(dirs: tuple[str, ...]) -> list[tuple[str, str, os.stat_result]]:
+    """(name under its root, path, stat) of every Python source under ``dirs``, in order."""
+    found = []
     for root in dirs:
         for folder, subdirs, files in sorted(os.walk(root)):
             subdirs.sort()
             for name in sorted(files):
                 if name.endswith(".py"):
                     path = os.path.join(folder, name)
-                    h.update(path[len(root):].encode())
-                    with open(path, "rb") as f:
-                        h.update(f.read())
-    return h.hexdigest()
+                    found.append((path[len(root):], path, os.stat(path)))
+    return found
 
 
 def library_digest() -> str:
