@@ -12,6 +12,8 @@ NaN behaviour:
 """
 from __future__ import annotations
 
+from llvmlite import ir
+
 import contextlib
 import typing
 from typing import Callable, Iterator
@@ -272,6 +274,13 @@ def _require_float(name: str, x):
         raise DSLTypeError(f"{name} is defined for Float values (any width), not {x!r}")
 
 
+def _known(*values) -> bool:
+    """Whether every operand is a constant of the IR: then the portable form is emitted, which
+    computes the same bits and which LLVM folds (an ``llvm.x86`` call it cannot), so a routine on
+    a constant (``exp2(3.0)``, a constant ``mat3``'s ``cos``) is computed while compiling."""
+    return all(isinstance(v.ir, ir.Constant) for v in values)
+
+
 def _native(name: str, x, natives):
     em = _em.current()
     return value_class(x.vtype)._wrap(x86.by_native_width(em, x.vtype, x.ir, natives), em).named(name)
@@ -309,7 +318,7 @@ def ReduceDown(x: Value) -> Value:
     reduces its argument with it; GLSL's ``fract`` is ``Fract``.)"""
     _require_float("ReduceDown", x)
     natives = x86.avx512_natives(_features(), "reduce", imm=1, need="avx512dq")
-    if natives:
+    if natives and not _known(x):
         return _native("reduce", x, natives)
     f = Floor(x)
     s = x - f
@@ -347,7 +356,7 @@ def Exponent(x: Value) -> Value:
     integer-bit emulation with the same bits elsewhere)."""
     _require_float("Exponent", x)
     natives = x86.avx512_natives(_features(), "getexp")
-    if natives:
+    if natives and not _known(x):
         return _native("exponent", x, natives)
     ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
     e = Float_((scaled >> 23) - Select(tiny, Int_(150), 127))
@@ -368,7 +377,7 @@ def Significand(x: Value) -> Value:
     "NaN if negative"; the same bits elsewhere)."""
     _require_float("Significand", x)
     natives = x86.avx512_natives(_features(), "getmant", imm=0b1000)
-    if natives:
+    if natives and not _known(x):
         return _native("significand", x, natives)
     ax, bits, tiny, scaled, Int_, Float_ = _normalized_bits(x)
     m = As(Float_, (scaled & 0x007FFFFF) | 0x3F800000)
@@ -397,7 +406,7 @@ def ScaleF(a: Value, b: Operand) -> Value:
     vt = common_type(a, b, what="ScaleF")
     a, b = (v if isinstance(v, Value) and v.width == vt.width else value_class(vt)(v) for v in (a, b))
     em = _em.current()
-    native = x86.scalef(em, vt, a.ir, b.ir, _features())
+    native = None if _known(a, b) else x86.scalef(em, vt, a.ir, b.ir, _features())
     if native is not None:
         return value_class(vt)._wrap(native, em).named("scalef")
     Double_, Int_ = vector_type("Double", vt.width), vector_type("Int", vt.width)
@@ -421,7 +430,7 @@ def ReduceNearest(x: Value) -> Value:
     imm 0; the same bits elsewhere): +0 for integers and infinities, NaN for NaN."""
     _require_float("ReduceNearest", x)
     natives = x86.avx512_natives(_features(), "reduce", imm=0, need="avx512dq")
-    if natives:
+    if natives and not _known(x):
         return _native("reduce", x, natives)
     r = x - Round(x)
     return Select(IsInf(x), 0.0, r).named("reduce")
