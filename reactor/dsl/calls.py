@@ -84,7 +84,7 @@ def call_key(name: str, settings: tuple, args: tuple, options: dict) -> tuple | 
     from .values import Value
     if not _em.building():
         return None
-    parts = []
+    parts: list[tuple] = []
     for a in (*args, *sorted(options.items())):
         a = a[1] if isinstance(a, tuple) and len(a) == 2 and isinstance(a[0], str) else a
         if isinstance(a, Value):

@@ -12,8 +12,6 @@ NaN behaviour:
 """
 from __future__ import annotations
 
-from llvmlite import ir
-
 import contextlib
 import typing
 from typing import Callable, Iterator
@@ -278,7 +276,7 @@ def _known(*values) -> bool:
     """Whether every operand is a constant of the IR: then the portable form is emitted, which
     computes the same bits and which LLVM folds (an ``llvm.x86`` call it cannot), so a routine on
     a constant (``exp2(3.0)``, a constant ``mat3``'s ``cos``) is computed while compiling."""
-    return all(isinstance(v.ir, ir.Constant) for v in values)
+    return all(_em.is_constant(v.ir) for v in values)
 
 
 def _native(name: str, x, natives):

@@ -828,6 +828,11 @@ class FunctionEmitter:
         return open_blocks
 
 
+def is_constant(value) -> bool:
+    """Whether an IR value is a constant (LLVM folds what is computed from constants only)."""
+    return isinstance(value, ir.Constant)
+
+
 def _i32(index):
     return ir.Constant(ir.IntType(32), index) if isinstance(index, int) else index
 
