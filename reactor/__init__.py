@@ -61,7 +61,7 @@ for _kind in KINDS:
         globals()[_cls.__name__] = _cls
 del _kind, _w, _cls
 
-__version__ = "0.1.0"
+__version__ = "0.2.0.dev0"  # CHANGELOG.md; the package's version (pyproject reads it)
 
 __all__ = [
     # build settings and targets

@@ -69,6 +69,8 @@ CACHE_EXAMPLES = ("python -m reactor cache info", "REACTOR_CACHE_DIR=/tmp/rc pyt
 
 def _parser() -> ArgumentParser:
     parser = ArgumentParser(prog="python -m reactor", description=__doc__, examples=EXAMPLES)
+    from . import __version__
+    parser.add_argument("--version", action="version", version=f"%(prog)s (reactor-simd) {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     dump = sub.add_parser("dump", help="print the IR, optimized IR or assembly of a Function or kernel",
                           description=__doc__, examples=EXAMPLES)

@@ -23,5 +23,7 @@ import reactor as _reactor  # noqa: E402
 
 _reactor.set_glsl_builtins(_glsl.BUILTINS)  # what GLSL.std.450 calls in reactor.from_glsl / from_spirv
 
+__version__ = _reactor.__version__  # one distribution (reactor-simd), one version
+
 __all__ = ["exp2", "exp", "log2", "log", "pow", "rcp", "rsqrt", "sqrt", "sin", "cos", "tan", "asin", "acos",
            "atan", "atan2", "sinh", "cosh", "tanh", "jit", "NAMES"]

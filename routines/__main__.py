@@ -37,7 +37,7 @@ COMMANDS = {
 }
 #: what the laboratory needs beyond the library (the ``lab`` extra)
 LAB_DEPENDENCIES = ("mpmath", "tqdm", "matplotlib")
-USAGE = "usage: python -m routines {" + ",".join(COMMANDS) + "} [options]"
+USAGE = "usage: python -m routines [--version] {" + ",".join(COMMANDS) + "} [options]"
 EXAMPLES = """examples:
   python -m routines report --quick
   python -m routines accuracy exp2 --precision relaxed --fma off
@@ -54,6 +54,10 @@ def main(argv: list[str] | None = None) -> int:
 def _dispatch(argv: list[str]) -> int:
     if argv and argv[0] in ("-h", "--help"):
         print(f"{USAGE}\n\n{__doc__.strip()}\n\n{EXAMPLES}")
+        return 0
+    if argv and argv[0] == "--version":
+        from reactor import __version__
+        print(f"python -m routines (reactor-simd) {__version__}")
         return 0
     if not argv or argv[0] not in COMMANDS:
         what = f"unknown command {argv[0]!r}" if argv else "a command is required"
