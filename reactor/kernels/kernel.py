@@ -223,11 +223,13 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
         "; ".join(f"{k.types}: {k.build.describe()}" for k in kernels) + "."
     ref = group.ufunc_ref
     traps = _dtype_traps(name, kernels)  # first: NumPy takes the first loop its operands fit
-    group.traps = [data for _, _, data in traps]
-    ufunc = make_ufunc(name, doc, [t[0] for t in traps] + [k._loop for k in kernels],
-                       [t[1] for t in traps] + [k._signature[0] for k in kernels],
+    after = _wide_traps(name, kernels)  # last: only what no loop takes safely reaches them
+    group.traps = [data for _, _, data in traps + after]
+    ufunc = make_ufunc(name, doc, [t[0] for t in traps] + [k._loop for k in kernels] + [t[0] for t in after],
+                       [t[1] for t in traps] + [k._signature[0] for k in kernels] + [t[1] for t in after],
                        len(kernels[0].in_kinds), len(kernels[0].out_kinds), owner=(group, _UfuncFreed(ref)),
-                       data=[ctypes.addressof(t[2]) for t in traps] + [ctypes.addressof(k.config) for k in kernels],
+                       data=[ctypes.addressof(t[2]) for t in traps] + [ctypes.addressof(k.config) for k in kernels]
+                       + [ctypes.addressof(t[2]) for t in after],
                        signature=kernels[0].gufunc_signature)
     ref._id = id(ufunc)
     for k in kernels:
@@ -268,6 +270,53 @@ def _dtype_traps(name: str, kernels) -> list:
                 dtypes = list(k._signature[0])
                 dtypes[j] = dt
                 traps.append((loop, dtypes, data))
+    return traps
+
+
+#: dtypes a float32 argument is given that NumPy will not cast to float32 safely, narrowest first
+_WIDE = [np.dtype(t) for t in ("int32", "int64", "float64")]
+
+
+def _wide_traps(name: str, kernels) -> list:
+    """Loops that raise one TypeError naming the argument, its dtype and the two ways on, for
+    float64 and 32/64-bit integer data given to float32 arguments (NumPy's own message names
+    neither): every combination for up to two such arguments, each alone and all at once for more.
+    They come after the kernel's loops, so whatever fits those (float32, or int16 and smaller,
+    cast safely as NumPy casts them) never reaches them."""
+    import itertools
+
+    from ..errors import ArgumentError
+    k = kernels[0]
+    if len(kernels) > 1:
+        return []
+    names = list(k.signature.names)
+    floats = [j for j, o in enumerate(k.ins) if not o.uniform and o.dtype == np.float32]
+    if not floats:
+        return []
+    if len(floats) <= 2:
+        choices = [c for c in itertools.product([None, *_WIDE], repeat=len(floats)) if any(c)]
+    else:
+        choices = [tuple(dt if i == j else None for i in range(len(floats))) for j in range(len(floats))
+                   for dt in _WIDE] + [tuple([dt] * len(floats)) for dt in _WIDE]
+    choices.sort(key=lambda c: [(_WIDE.index(d) + 1) if d is not None else 0 for d in c])
+    traps = []
+    nin = len(k.ins)
+    for choice in choices:
+        # outputs of a dtype nobody asks for (complex64): a call with dtype=np.float32 (or float64) is
+        # never theirs, and NumPy casts it to the kernel's loop as asked (or says it has none)
+        dtypes = list(k._signature[0][:nin]) + [np.dtype(np.complex64) if dt == np.float32 else dt
+                                                for dt in k._signature[0][nin:]]
+        wide = []
+        for j, dt in zip(floats, choice):
+            if dt is not None:
+                dtypes[j] = dt
+                wide.append(f"'{names[j]}' is {dt}" + (" (a Python int is int64 here)" if dt == np.int64 else
+                                                        " (a Python float is float64)" if dt == np.float64 else ""))
+        message = (f"kernel '{name}' computes in float32, and its argument {' and '.join(wide)}: NumPy will not "
+                   f"round them to float32 unasked. Pass arrays of float32 (x.astype(np.float32)), or call with "
+                   f"dtype=np.float32, casting='same_kind' to have NumPy round them")
+        loop, data = parallel.error_loop(message, ArgumentError)
+        traps.append((loop, dtypes, data))
     return traps
 
 

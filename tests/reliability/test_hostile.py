@@ -214,13 +214,14 @@ def _scaled(a, s):
 
 # (case id, thunk, exception type, words in the message)
 RAISES = [
-    ("kernel int32 input (unsafe cast)", lambda: k2(X.astype(np.int32), Y), TypeError, "not supported for the input types"),
-    ("kernel int64 input", lambda: k2(X.astype(np.int64), Y), TypeError, "not supported for the input types"),
-    ("kernel float64 input (casting rules)", lambda: k2(X.astype(np.float64), Y), TypeError, "casting rule ''safe''"),
+    ("kernel int32 input (unsafe cast)", lambda: k2(X.astype(np.int32), Y), TypeError, "argument 'a' is int32"),
+    ("kernel int64 input", lambda: k2(X.astype(np.int64), Y), TypeError, "argument 'a' is int64"),
+    ("kernel float64 input (casting rules)", lambda: k2(X.astype(np.float64), Y), TypeError,
+     "dtype=np.float32, casting='same_kind'"),
     ("kernel complex input", lambda: k2(X.astype(np.complex64), Y), TypeError, "not supported"),
     ("kernel object input", lambda: k2(X.astype(object), Y), TypeError, "not supported"),
     ("kernel string input", lambda: k2(np.array(["a"] * 37), Y), TypeError, "not supported"),
-    ("kernel list of floats (float64)", lambda: k2([1.0, 2.0], [3.0, 4.0]), TypeError, "not supported"),
+    ("kernel list of floats (float64)", lambda: k2([1.0, 2.0], [3.0, 4.0]), TypeError, "and 'b' is float64"),
     ("kernel too few arguments", lambda: k2(X), TypeError, "takes from 2 to 3 positional arguments"),
     ("kernel too many arguments", lambda: k2(X, Y, X, Y), TypeError, "takes from 2 to 3 positional arguments"),
     ("kernel out= of the wrong shape", lambda: k2(X, Y, out=np.zeros(36, np.float32)), ValueError, "broadcast"),
@@ -236,7 +237,7 @@ RAISES = [
     ("kernel where= of the wrong shape",
      lambda: k2(X, Y, out=np.zeros(37, np.float32), where=np.ones(36, bool)), ValueError, "broadcast"),
     ("routine pow with float64 inputs", lambda: routines.jit("pow")(X.astype(np.float64), Y), TypeError,
-     "not supported"),
+     "computes in float32, and its argument 'x' is float64"),
     ("routine exp2 into a read-only out=", lambda: routines.jit("exp2")(X, out=_ro(X)), ValueError, "read-only"),
     ("Function: float64 array", lambda: total(np.zeros(4), 4), ArgumentError, "dtype float32, not float64"),
     ("Function: byte-swapped array", lambda: total(np.zeros(4, ">f4"), 4), ArgumentError, "dtype float32"),
