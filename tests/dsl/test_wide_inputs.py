@@ -4,7 +4,6 @@ safely (int16, a Python float beside a float32 array) runs as before."""
 import numpy as np
 import pytest
 
-import reactor
 import routines
 from reactor import Float, kernel
 
