@@ -27,6 +27,26 @@ def _core_dims(ufunc) -> tuple[list[tuple[int, ...]], list[tuple[int, ...]]]:
     return parse(ins), parse(outs)
 
 
+def _check_dtypes(ufunc, args) -> None:
+    """What NumPy would refuse in every chunk, refused now, in the kernel's terms: an operand whose
+    dtype the kernel's loop does not take safely (a float64 dask array for a float32 kernel)."""
+    from ..errors import ArgumentError
+    wanted = [np.dtype(c) for c in ufunc.types[0].split("->")[0]]
+    try:
+        from .kernel import kernel_of
+        names = list(kernel_of(ufunc).signature.names)
+    except ReactorError:
+        names = [f"#{j}" for j in range(len(args))]
+    for j, (a, want) in enumerate(zip(args, wanted)):
+        if isinstance(a, (bool, int, float)):  # a Python number adapts to the array beside it
+            continue
+        dt = getattr(a, "dtype", None)
+        dt = np.asarray(a).dtype if dt is None else np.dtype(dt)
+        if not np.can_cast(dt, want, "safe"):
+            raise ArgumentError(f"map_blocks: argument '{names[j]}' of '{ufunc.__name__}' is {dt}, and the kernel "
+                                f"computes in {want}: pass it as {want} (a.astype(np.{want}))")
+
+
 def map_blocks(ufunc, *args):
     """``ufunc(*args)`` as lazy dask arrays, chunk by chunk: one dask array per result (a tuple
     for several). Operands broadcast as in NumPy; vector operands' trailing axes are kept whole in
@@ -34,6 +54,7 @@ def map_blocks(ufunc, *args):
     import dask.array as da
     if not isinstance(ufunc, np.ufunc) or ufunc.nin != len(args):
         raise ReactorError(f"map_blocks takes a kernel and its {getattr(ufunc, 'nin', '?')} operands")
+    _check_dtypes(ufunc, args)
     ins, outs = _core_dims(ufunc)
     shapes = [np.shape(a)[:np.ndim(a) - len(core)] for a, core in zip(args, ins)]
     lead = np.broadcast_shapes(*shapes)

@@ -163,6 +163,16 @@ def test_dask_arrays_threads_and_gufuncs(shader_module):
     assert np.array_equal(_bits(g.compute(scheduler="threads")), _bits(shader_module.tint(n, x[:60, :70])))
 
 
+def test_dask_operands_of_a_dtype_the_kernel_does_not_take_are_refused_when_the_graph_is_made():
+    da = pytest.importorskip("dask.array")
+    exp2 = routines.jit("exp2")
+    with pytest.raises(TypeError, match=r"argument 'x' of 'exp2_full\w*' is float64, and the kernel computes "
+                                        r"in float32: pass it as float32 \(a.astype\(np.float32\)\)"):
+        reactor.map_blocks(exp2, da.from_array(np.linspace(0, 1, 8), chunks=4))
+    x = np.linspace(0, 1, 8, dtype=np.float32)
+    assert np.array_equal(reactor.map_blocks(exp2, da.from_array(x, chunks=4)).compute(), exp2(x))
+
+
 def test_dask_local_cluster_of_processes(shader_module):
     da = pytest.importorskip("dask.array")
     distributed = pytest.importorskip("distributed")
