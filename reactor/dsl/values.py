@@ -13,6 +13,8 @@ converts to 0/1).
 """
 from __future__ import annotations
 
+from . import builtins as _numpy
+
 import functools
 import numbers
 import typing
@@ -159,6 +161,10 @@ class Value:
                            f"or reactor's Floor, Sqrt ... on DSL values)")
 
     __int__ = __complex__ = __float__  # math.cos(x) asks for one of these
+
+    # np.sin(x) on a DSL value is GLSL's sin, np.clip its clamp; anything else a clear error
+    __array_ufunc__ = _numpy.array_ufunc
+    __array_function__ = _numpy.array_function
 
     def set(self, value: Operand) -> "Value":
         raise DSLTypeError(f"a {self.vtype.name} value (an argument, constant or result) cannot be assigned "

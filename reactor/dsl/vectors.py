@@ -22,6 +22,8 @@ a bvec. ``Select(mask, a, b)`` takes vectors too. Matrix products are
 """
 from __future__ import annotations
 
+from . import builtins as _numpy
+
 import typing
 
 from ..errors import DSLTypeError, ScopeError
@@ -84,6 +86,9 @@ class Vec:
     size: int
     dsl_composite = True  # DSL scalars defer their operators to it
     __slots__ = ("_comps", "_scope")
+    # np.sin(v) on a vector is GLSL's sin per component, np.clip its clamp; anything else an error
+    __array_ufunc__ = _numpy.array_ufunc
+    __array_function__ = _numpy.array_function
 
     if typing.TYPE_CHECKING:  # installed from a table (_install_vector_operators); declared for type checkers
         def __add__(self, other: typing.Any) -> typing.Any: ...

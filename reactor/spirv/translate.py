@@ -29,24 +29,8 @@ from .cells import INVOCATION, LENGTH, Cell, _dsl, componentwise, from_vec, new_
 from .declarations import _KIND, Declarations, Type, zero
 from .frames import Frame, to_result
 from .instructions import OPS, _dot, _fmul, _insert
+from ..dsl.builtins import builtins_table, set_builtins  # noqa: F401 - set_builtins: reactor.spirv's
 
-_BUILTINS: dict[str, typing.Callable] = {}
-
-
-def set_builtins(table: dict[str, typing.Callable]) -> None:
-    """Install the GLSL built-ins (GLSL name -> function over DSL scalars and vectors) that
-    GLSL.std.450 instructions call; ``routines`` installs ``routines.glsl``'s when imported."""
-    _BUILTINS.update(table)
-
-
-def builtins_table() -> dict[str, typing.Callable]:
-    """The GLSL built-ins installed; if none yet, those a package declares under the entry point
-    group ``reactor.glsl_builtins`` (``routines`` declares its own), loaded."""
-    if not _BUILTINS:
-        from importlib.metadata import entry_points
-        for point in entry_points(group="reactor.glsl_builtins"):
-            set_builtins(point.load())
-    return _BUILTINS
 
 
 class Translator:
