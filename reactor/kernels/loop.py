@@ -119,7 +119,7 @@ def emit_body(module, name: str, body, ins, outs, width: int):
             if result is not None:
                 if len(result) != len(outs):
                     raise DSLTypeError(f"kernel body returned {len(result)} value(s); its signature declares "
-                                       f"{len(outs)} output(s)")
+                                       f"{len(outs)} output(s){_vector_hint(outs, result)}")
                 irs = [v for o, r in zip(outs, result) for v in o.flatten(r, width, f"kernel '{name}' result")]
             check_entered(em)
             open_blocks = em.finish()
@@ -477,6 +477,15 @@ class LoopEmitter:
             return [start]
         return [start] + [em.address(start, self._mul(_idx(c), self._channel_stride(k)), name=f"e{k}.{c}")
                           for c in range(1, o.channels)]
+
+
+def _vector_hint(outs, result) -> str:
+    """What to write where a body returns a vector's components as several values."""
+    if len(outs) == 1 and outs[0].vector and outs[0].channels == len(result):
+        from ..dsl.vectors import vec_type
+        name = vec_type(outs[0].kind, outs[0].channels).__name__
+        return f": the result is one {name}, so write 'return {name}(...)' with its {len(result)} components"
+    return ""
 
 
 def estimated_cycles(body_fn, width: int) -> float:

@@ -229,3 +229,12 @@ def test_single_input_broadcast_and_large_arrays(rng):
     want = (x.astype(np.float64) ** 2 - 1).astype(np.float32)  # exact product, then one rounding
     np.testing.assert_allclose(sq(x), want, rtol=1e-6, atol=1e-6)
     np.testing.assert_allclose(sq(np.broadcast_to(np.float32(3), (17,))), np.full(17, 8, np.float32))
+
+
+def test_a_vectors_components_returned_apart_say_how_to_return_the_vector():
+    from reactor import DSLTypeError, vec3
+
+    def body(x: Float) -> vec3:
+        return x, x * 2.0, x * 3.0
+    with pytest.raises(DSLTypeError, match=r"returned 3 value\(s\).* write 'return vec3\(\.\.\.\)' with its 3 components"):
+        kernel(body, cache=False)
