@@ -7,6 +7,9 @@ from __future__ import annotations
 import typing
 
 _BUILTINS: dict[str, typing.Callable] = {}
+#: ufunc -> (the kernel's body, its precision), or None for a ufunc reactor did not make; set by
+#: the kernels layer (reactor.kernels.kernel), which this layer does not import
+_kernel_body: typing.Callable[[typing.Any], "tuple[typing.Callable, typing.Any] | None"] = lambda ufunc: None
 
 #: NumPy's ufuncs and functions -> GLSL's built-ins of the same meaning
 NUMPY_TO_GLSL = {
@@ -33,6 +36,29 @@ def builtins_table() -> dict[str, typing.Callable]:
     return _BUILTINS
 
 
+def set_kernel_bodies(resolver: typing.Callable[[typing.Any], "tuple[typing.Callable, typing.Any] | None"]) -> None:
+    """Install how a reactor ufunc called in a kernel body finds its body and precision."""
+    global _kernel_body
+    _kernel_body = resolver
+
+
+def inline_kernel(ufunc, inputs: tuple, kwargs: dict):
+    """A reactor kernel called in another kernel's body, inlined as GLSL inlines a function call:
+    its body on the caller's values, at its own precision and the caller's FMA setting; None for a
+    ufunc reactor did not make."""
+    found = _kernel_body(ufunc)
+    if found is None:
+        return None
+    if kwargs:
+        from ..errors import DSLTypeError
+        raise DSLTypeError(f"kernel {ufunc.__name__} called in a kernel body with NumPy's options "
+                           f"({', '.join(kwargs)}=): they have no meaning there; call it with the values alone")
+    body, level = found
+    from .intrinsics import precision
+    with precision(level):
+        return body(*inputs)
+
+
 def numpy_call(name: str, args: tuple, kwargs: dict):
     """NumPy's ``name(*args)`` on DSL values, as GLSL's built-in of the same meaning; a clear
     error where there is none (or where NumPy's options, ``out=`` and the like, are asked)."""
@@ -53,6 +79,9 @@ def array_ufunc(self, ufunc, method, *inputs, **kwargs):
     if method != "__call__":
         from ..errors import DSLTypeError
         raise DSLTypeError(f"np.{ufunc.__name__}.{method} on a DSL value: NumPy's ufunc methods take arrays")
+    inlined = inline_kernel(ufunc, inputs, kwargs)
+    if inlined is not None:
+        return inlined
     return numpy_call(ufunc.__name__, inputs, kwargs)
 
 

@@ -41,6 +41,7 @@ import re
 import numpy as np
 
 from ..build import Build, current_options
+from ..dsl import builtins as _builtins
 from ..dsl.syntax import as_written
 from ..dsl.signature import Signature
 from ..dsl.values import value_class
@@ -386,6 +387,18 @@ def group_of(ufunc) -> "Kernels | None":
         ref = _registry.get(id(ufunc))
     group = ref() if ref is not None else None
     return group if group is not None and group.ufunc_ref._id == id(ufunc) else None
+
+
+def _body_of(ufunc):
+    """A reactor ufunc's body and precision, for a call of it inside another kernel's body."""
+    group = group_of(ufunc)
+    if group is None:
+        return None
+    first = group.kernels[0]
+    return first.body, first.build.precision
+
+
+_builtins.set_kernel_bodies(_body_of)
 
 
 class _UfuncRef:
