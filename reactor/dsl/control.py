@@ -39,7 +39,7 @@ from ..source import returns_in_blocks, with_block_calls
 from .intrinsics import Any, Select
 from .context import body_of, is_kernel_body
 from .lanes import Frame, LoopLanes, is_varying, lanes_of
-from .values import Operand, Value, common_type, to_ir, value_class
+from .values import Operand, Value, common_type, shown, to_ir, value_class
 from .variables import Variable
 
 _LANE_EXITS = {"Break", "Continue", "Return"}
@@ -54,7 +54,7 @@ def _condition(cond, what: str):
                            f"not {cond!r}")
     if cond.width != 1:
         em = _em.current()
-        raise DSLTypeError(f"{what} got a {cond.vtype.name} mask in a body of {em.width} lane(s): "
+        raise DSLTypeError(f"{what} got a {shown(cond.vtype)} mask in a body of {em.width} lane(s): "
                            f"reduce it with Any(...) or All(...)")
     return cond.ir
 
@@ -412,7 +412,7 @@ class For(_Loop):
         ints = [v for v in (self._start, self._stop) if isinstance(v, Value)]
         vt = common_type(*ints, what="For") if ints else VType(KINDS["Int"], 1)
         if not vt.kind.is_integer:
-            raise DSLTypeError(f"For bounds must be Int or UInt values, not {vt.name}")
+            raise DSLTypeError(f"For bounds must be Int or UInt values, not {shown(vt)}")
         varying = vt.width > 1
         if varying:
             lanes_of(em).adopt(vt.width, "For")
@@ -539,7 +539,7 @@ def return_value(value: typing.Any, from_user: bool) -> None:
         if expected is not None and value is None:
             raise DSLTypeError(f"Return without a value in '{fn.name}', which returns {expected.name}")
         if isinstance(value, Value) and (value.kind != expected.kind or value.width not in (1, expected.width)):
-            raise DSLTypeError(f"Return of a {value.vtype.name} in '{fn.name}', which returns {expected.name}")
+            raise DSLTypeError(f"Return of a {shown(value.vtype)} in '{fn.name}', which returns {expected.name}")
     if kernel and active is None:  # every lane of this path returns: a real return
         _return_from_kernel(em, fn, value)
         return

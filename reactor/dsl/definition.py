@@ -16,7 +16,7 @@ from ..ir import emitter as _em
 from ..ir import types as T
 from ..ir.types import PointerType, VType
 from .signature import Signature
-from .values import Value, to_ir, value_class
+from .values import Value, shown, to_ir, value_class
 from .context import begin, check_entered
 from .syntax import as_written
 from .variables import PointerValue
@@ -111,7 +111,7 @@ class FunctionDef:
                 irs.append(a._ptr()[1])
             else:
                 if isinstance(a, Value) and (a.kind != p.kind or a.width not in (1, p.width)):
-                    raise DSLTypeError(f"'{self.name}' parameter '{name}' needs a {p.name}, got a {a.vtype.name}")
+                    raise DSLTypeError(f"'{self.name}' parameter '{name}' needs a {p.name}, got a {shown(a.vtype)}")
                 irs.append(to_ir(a, p))
         result = em.call(fn, irs, name=self.name if returns is not None else "")
         return None if returns is None else value_class(returns)._wrap(result, em)

@@ -23,7 +23,7 @@ from ..errors import ArityError, DSLTypeError, ReactorError
 from ..ir import emitter as _em
 from .signature import resolve
 from ..ir.types import VType
-from .values import Value, to_ir, value_class
+from .values import Value, shown, to_ir, value_class
 
 
 @functools.cache
@@ -71,7 +71,7 @@ class External:
         irs = []
         for want, a in zip(self.args, args):
             if isinstance(a, Value) and (a.kind != want.kind or a.width not in (1, want.width)):
-                raise DSLTypeError(f"'{self.symbol}' needs a {want.name}, got a {a.vtype.name}")
+                raise DSLTypeError(f"'{self.symbol}' needs a {want.name}, got a {shown(a.vtype)}")
             irs.append(to_ir(a, want))
         fn = em.module.declare(self.symbol, self.returns, self.args)
         em.module.imports[self.symbol] = self.address

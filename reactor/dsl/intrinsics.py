@@ -22,7 +22,7 @@ from ..ir import emitter as _em
 from ..ir import ops, x86
 from ..ir import types as T
 from ..ir.types import KINDS, VType
-from .values import Operand, Value, binary, common_type, to_ir, unary, value_class, vector_type, width_mismatch
+from .values import Operand, Value, binary, common_type, shown, to_ir, unary, value_class, vector_type, width_mismatch
 
 if typing.TYPE_CHECKING:
     from .vectors import Vec
@@ -73,7 +73,7 @@ def _classify(name: str) -> Callable[[Value], Value]:
     def fn(x: Value) -> Value:
         vt = common_type(x, what=name)
         if not vt.kind.is_float:
-            raise DSLTypeError(f"{name} is defined for Float and Double, not {vt.name}")
+            raise DSLTypeError(f"{name} is defined for Float and Double, not {shown(vt)}")
         em = _em.current()
         return value_class(vt.with_kind("Bool"))._wrap(ops.CLASSIFY[name.lower()](em, vt, x.ir), em)
 
@@ -107,7 +107,7 @@ def Select(mask: typing.Any, a: typing.Any, b: typing.Any) -> typing.Any:
     if vt.width == 1 and mask.width > 1:
         vt = vt.with_width(mask.width)
     elif mask.width not in (1, vt.width):
-        raise width_mismatch(f"Select: mask {mask.vtype.name} does not match values {vt.name}")
+        raise width_mismatch(f"Select: mask {shown(mask.vtype)} does not match values {shown(vt)}")
     em = _em.current()
     return value_class(vt)._wrap(ops.select(em, mask.ir, to_ir(a, vt), to_ir(b, vt)), em)
 
@@ -115,7 +115,7 @@ def Select(mask: typing.Any, a: typing.Any, b: typing.Any) -> typing.Any:
 def _fused_args(a, b, c, what):
     vt = common_type(a, b, c, what=what)
     if not vt.kind.is_float:
-        raise DSLTypeError(f"{what} is defined for Float and Double, not {vt.name}")
+        raise DSLTypeError(f"{what} is defined for Float and Double, not {shown(vt)}")
     return vt, to_ir(a, vt), to_ir(b, vt), to_ir(c, vt)
 
 
@@ -207,11 +207,11 @@ def ToInt(x: Value, rounding: str = "trunc", *, saturate: bool = True, unsigned:
 def _lane_index(v: Value, i):
     if isinstance(i, Value):
         if not i.kind.is_integer or i.width != 1:
-            raise DSLTypeError(f"lane index must be a scalar Int, not {i.vtype.name}")
+            raise DSLTypeError(f"lane index must be a scalar Int, not {shown(i.vtype)}")
         # taken modulo the width: an out-of-range index would make LLVM poison
         return ops.binary(_em.current(), "and", i.vtype, i.ir, T.const(i.vtype, v.width - 1))
     if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < v.width:
-        raise DSLTypeError(f"lane index {i!r} out of range for {v.vtype.name}")
+        raise DSLTypeError(f"lane index {i!r} out of range for {shown(v.vtype)}")
     return i
 
 

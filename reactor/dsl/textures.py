@@ -39,7 +39,7 @@ from ..ir import ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, Kind, VType
 from .context import active_mask
-from .values import Value, value_class
+from .values import Value, shown, value_class
 
 WRAPS = ("clamp", "repeat", "mirror", "border")
 FILTERS = ("nearest", "linear")
@@ -332,7 +332,7 @@ def _as_int(c) -> Value:
     if isinstance(c, int):
         return value_class(VType(KINDS["Int"], 1))(c)
     if not c.kind.is_integer:
-        raise DSLTypeError(f"a texel index must be an integer, not {c.vtype.name}: use fetch for integer "
+        raise DSLTypeError(f"a texel index must be an integer, not {shown(c.vtype)}: use fetch for integer "
                            f"coordinates and sample for normalized ones")
     return c if c.kind.name == "Int" else value_class(c.vtype.with_kind("Int"))(c)
 

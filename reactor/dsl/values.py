@@ -92,7 +92,7 @@ class Value:
                 vec = em.insert(vec, to_ir(arg, vt.with_width(1), convert=True), lane, name="lanes")
             return cls._wrap(vec, em)
         raise DSLTypeError(
-            f"{vt.name}(...) takes one value (broadcast or converted) or {vt.width} lane values, "
+            f"{shown(vt)}(...) takes one value (broadcast or converted) or {vt.width} lane values, "
             f"not {len(args)}"
         )
 
@@ -111,17 +111,17 @@ class Value:
         em = _em.current()
         if self._emitter is not em:
             raise ScopeError(
-                f"a {self.vtype.name} value from function '{self._emitter.function.name}' "
+                f"a {shown(self.vtype)} value from function '{self._emitter.function.name}' "
                 f"used while building '{em.function.name}'; pass it as an argument instead"
             )
         if self._scope.closed:
             raise ScopeError(
-                f"a {self.vtype.name} value defined inside a '{self._scope.what}' block is used "
+                f"a {shown(self.vtype)} value defined inside a '{self._scope.what}' block is used "
                 f"after that block ended; declare a Variable before the block and assign it inside"
             )
         if not em.in_chain(self._ir):
             raise ScopeError(
-                f"a {self.vtype.name} value computed between the blocks of an If/Elif chain belongs "
+                f"a {shown(self.vtype)} value computed between the blocks of an If/Elif chain belongs "
                 f"to the next Elif's condition and is only valid in that chain's Elif/Else blocks; "
                 f"compute it before the If (or keep it in a Variable)"
             )
@@ -141,22 +141,22 @@ class Value:
         return self
 
     def __repr__(self) -> str:
-        return f"<{self.vtype.name} value>"
+        return f"<{shown(self.vtype)} value>"
 
     def __bool__(self):
         raise DSLTypeError(
-            f"a {self.vtype.name} value has no Python truth value at build time: use "
+            f"a {shown(self.vtype)} value has no Python truth value at build time: use "
             f"If(...)/While(...) for run-time branches, Select(...) for lane-wise choice (Python's "
             f"max, min, abs, 'and', 'or' and 'if' need one: use routines.glsl's max/min/abs or reactor.Max ...)"
         )
 
     def __index__(self):
-        raise DSLTypeError(f"a {self.vtype.name} value cannot index a Python list or tuple, or count a range "
+        raise DSLTypeError(f"a {shown(self.vtype)} value cannot index a Python list or tuple, or count a range "
                            f"(it holds a value per lane): read per lane from a ConstantTable(values, Float) or a "
                            f"Table parameter, and loop with reactor.For")
 
     def __float__(self):
-        raise DSLTypeError(f"a {self.vtype.name} value cannot be used as a Python number "
+        raise DSLTypeError(f"a {shown(self.vtype)} value cannot be used as a Python number "
                            f"(math.* and Python's built-ins take numbers: use routines.glsl's cos, floor ... "
                            f"or reactor's Floor, Sqrt ... on DSL values)")
 
@@ -167,11 +167,11 @@ class Value:
     __array_function__ = _numpy.array_function
 
     def set(self, value: Operand) -> "Value":
-        raise DSLTypeError(f"a {self.vtype.name} value (an argument, constant or result) cannot be assigned "
-                           f"to: declare v = Variable({self.vtype.name}, ...) and use v.set(...)")
+        raise DSLTypeError(f"a {shown(self.vtype)} value (an argument, constant or result) cannot be assigned "
+                           f"to: declare v = Variable({shown(self.vtype)}, ...) and use v.set(...)")
 
     def __setitem__(self, index, value):
-        raise DSLTypeError(f"a {self.vtype.name} value cannot be changed in place: Insert(v, x, {index!r}) "
+        raise DSLTypeError(f"a {shown(self.vtype)} value cannot be changed in place: Insert(v, x, {index!r}) "
                            f"gives a copy with lane {index!r} replaced")
 
     __hash__ = object.__hash__
@@ -197,20 +197,20 @@ def _python_constant(x, vt: VType):
     kind = vt.kind
     if isinstance(x, bool) or (hasattr(x, "dtype") and getattr(x, "dtype", None) == bool):
         if kind.category != "bool":
-            raise DSLTypeError(f"Python bool {x!r} used where a {vt.name} is expected")
+            raise DSLTypeError(f"Python bool {x!r} used where a {shown(vt)} is expected")
         return T.const(vt, int(bool(x)))
     if kind.category == "bool":
-        raise DSLTypeError(f"number {x!r} used where a {vt.name} (mask) is expected; use True/False")
+        raise DSLTypeError(f"number {x!r} used where a {shown(vt)} (mask) is expected; use True/False")
     if kind.is_float:
         if not isinstance(x, numbers.Real):
-            raise DSLTypeError(f"{type(x).__name__} {x!r} cannot be a {vt.name} constant")
+            raise DSLTypeError(f"{type(x).__name__} {x!r} cannot be a {shown(vt)} constant")
         return T.const(vt, float(kind.dtype.type(x)) if kind.bits < 32 else float(x))  # Half: rounded once
     if isinstance(x, numbers.Integral):
         x, bits = int(x), kind.bits
         if not -(2 ** (bits - 1)) <= x < 2 ** bits:
-            raise DSLTypeError(f"integer constant {x} does not fit in {bits} bits ({vt.name})")
+            raise DSLTypeError(f"integer constant {x} does not fit in {bits} bits ({shown(vt)})")
         return T.const(vt, x - 2 ** bits if x >= 2 ** (bits - 1) else x)
-    raise DSLTypeError(f"{type(x).__name__} {x!r} used where an integer {vt.name} is expected")
+    raise DSLTypeError(f"{type(x).__name__} {x!r} used where an integer {shown(vt)} is expected")
 
 
 def to_ir(x, vt: VType, *, convert: bool = False):
@@ -225,7 +225,7 @@ def to_ir(x, vt: VType, *, convert: bool = False):
     val = x.ir
     if xt.kind != vt.kind:
         if not convert:
-            raise DSLTypeError(f"expected {vt.name}, got {xt.name}")
+            raise DSLTypeError(f"expected {shown(vt)}, got {shown(xt)}")
         val = ops.convert(_em.current(), xt, xt.with_kind(vt.kind), val)
         xt = xt.with_kind(vt.kind)
     if xt.width == vt.width:
@@ -233,7 +233,7 @@ def to_ir(x, vt: VType, *, convert: bool = False):
     if xt.width == 1:
         named = getattr(val, "name", "") and not T.is_constant(val)
         return _em.current().splat(val, vt.width, name=f"{val.name}.splat" if named else "splat")
-    raise width_mismatch(f"a {xt.name} cannot become a {vt.name}: widths {xt.width} and {vt.width}")
+    raise width_mismatch(f"a {shown(xt)} cannot become a {shown(vt)}: widths {xt.width} and {vt.width}")
 
 
 def width_mismatch(message: str) -> WidthMismatchError:
@@ -254,12 +254,12 @@ def common_type(*args, what: str) -> VType:
         raise DSLTypeError(f"{what} needs at least one DSL value (all operands are Python constants)")
     kinds = {vt.kind for vt in vts}
     if len(kinds) > 1:
-        names = " and ".join(vt.name for vt in vts)
+        names = " and ".join(shown(vt) for vt in vts)
         raise DSLTypeError(f"{what}: operands of different types ({names}); convert one explicitly, "
                            f"e.g. Float(i) or Int(x)")
     widths = {vt.width for vt in vts} - {1}
     if len(widths) > 1:
-        names = " and ".join(vt.name for vt in vts)
+        names = " and ".join(shown(vt) for vt in vts)
         raise width_mismatch(f"{what}: vector widths differ ({names})")
     return VType(vts[0].kind, widths.pop() if widths else 1)
 
@@ -272,7 +272,7 @@ def _lookup(table: dict, name: str, vt: VType, what: str):
         if name in ("and", "or", "xor") and vt.kind.is_float:
             hint = ("; in Python '&', '|' and '^' bind tighter than comparisons: write (a < b) & (c < d), "
                     "with the parentheses")
-        raise DSLTypeError(f"{what} is not defined for {vt.name} (only for {', '.join(kinds)}){hint}")
+        raise DSLTypeError(f"{what} is not defined for {shown(vt)} (only for {', '.join(kinds)}){hint}")
     return recipe
 
 
@@ -296,7 +296,7 @@ def unary(name: str, a, what: str | None = None) -> Value:
 def comparison(name: str, a, b) -> Value:
     vt = common_type(a, b, what=f"comparison '{ops.COMPARE[name]}'")
     if vt.kind.category == "bool" and name not in ("eq", "ne"):
-        raise DSLTypeError(f"ordering comparison '{ops.COMPARE[name]}' of masks ({vt.name})")
+        raise DSLTypeError(f"ordering comparison '{ops.COMPARE[name]}' of masks ({shown(vt)})")
     em = _em.current()
     result = ops.compare(em, vt, name, to_ir(a, vt), to_ir(b, vt))
     return value_class(vt.with_kind("Bool"))._wrap(result, em)
@@ -334,7 +334,7 @@ def power(a, b):
         b = int(b)  # x ** 2.0 is x * x, as in Python and NumPy (pow would be NaN for x < 0)
     if isinstance(b, int) and not isinstance(b, bool) and abs(b) <= 16 and isinstance(a, Value):
         if not a.kind.is_float:
-            raise DSLTypeError(f"operator '**' is defined for Float and Double, not {a.vtype.name}")
+            raise DSLTypeError(f"operator '**' is defined for Float and Double, not {shown(a.vtype)}")
         result, base, n = None, a, abs(b)
         while n:
             if n & 1:

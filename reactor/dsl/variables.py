@@ -25,7 +25,7 @@ from ..ir import ops
 from ..ir import types as T
 from ..ir.types import PointerType, VType
 from .context import active_mask, is_kernel_body
-from .values import Operand, Value, binary, to_ir, value_class
+from .values import Operand, Value, binary, shown, to_ir, value_class
 
 
 class _VariableMixin:
@@ -65,7 +65,7 @@ class _VariableMixin:
                 fix = ("declare it without uniform=True (one value per lane)" if kernel else
                        f"declare it with one value per lane (Variable({self.vtype.kind.name}{mask.width}, ...))")
                 raise ControlFlowError(
-                    f"Variable '{self._name}' ({self.vtype.name}) is assigned under a per-lane condition of "
+                    f"Variable '{self._name}' ({shown(self.vtype)}) is assigned under a per-lane condition of "
                     f"{mask.width} lanes: which lane's value should it take? {fix[0].upper() + fix[1:]}, "
                     f"or assign it outside the condition")
             slot = self._slot()
@@ -179,7 +179,7 @@ class PointerValue:
         em, base = self._ptr()
         if isinstance(index, Value):
             if not index.kind.is_integer or index.width != 1:
-                raise DSLTypeError(f"pointer index must be a scalar Int or UInt, not {index.vtype.name}")
+                raise DSLTypeError(f"pointer index must be a scalar Int or UInt, not {shown(index.vtype)}")
             idx = ops.convert(em, index.vtype, T.INDEX, index.ir)
         elif isinstance(index, int) and not isinstance(index, bool):
             idx = index

@@ -30,7 +30,7 @@ from ..errors import DSLTypeError, ScopeError
 from ..ir import emitter as _em
 from ..ir.types import KINDS, Kind, VType
 from .intrinsics import SELECT_FORMS, Select
-from .values import Value, binary, comparison, unary, value_class
+from .values import Value, binary, comparison, shown, unary, value_class
 from .variables import VARIABLE_FORMS, Variable, per_lane
 
 _SWIZZLE_SETS = ("xyzw", "rgba", "stpq")
@@ -77,6 +77,16 @@ def _swizzle(name: str) -> list[int] | None:
         if all(ch in letters for ch in name):
             return [letters.index(ch) for ch in name]
     return None
+
+
+def _per_lane_pick(items: list, index: Value) -> Value:
+    """``items[index]`` with an Int index that may differ per lane (GLSL's dynamic indexing of a
+    vector or matrix): a select per item. An index outside the items gives the first (GLSL leaves
+    it undefined)."""
+    picked = items[0]
+    for k in range(1, len(items)):
+        picked = Select(index == k, items[k], picked)
+    return picked
 
 
 class Vec:
@@ -156,9 +166,12 @@ class Vec:
     def __iter__(self):
         return iter(self._c)
 
-    def __getitem__(self, i: int) -> Value:
+    def __getitem__(self, i: int | Value) -> Value:
+        if isinstance(i, Value) and i.kind.name in ("Int", "UInt"):
+            return _per_lane_pick(list(self._c), i)
         if not isinstance(i, int) or not -self.size <= i < self.size:
-            raise DSLTypeError(f"{type(self).__name__} index must be an int in [0, {self.size}), not {i!r}")
+            raise DSLTypeError(f"{type(self).__name__} index must be an int in [0, {self.size}) or an Int value, "
+                               f"not {i!r}")
         return self._c[i]
 
     def __getattr__(self, name: str):
@@ -207,7 +220,7 @@ class Vec:
         first = self._comps[0]
         if not isinstance(first, Value):
             return f"{type(self).__name__}({', '.join(repr(c) for c in self._comps)})"
-        return f"<{type(self).__name__} of {first.vtype.name}>"
+        return f"<{type(self).__name__} of {shown(first.vtype)}>"
 
     __hash__ = object.__hash__
 
@@ -335,7 +348,13 @@ class Mat:
     def __iter__(self) -> typing.Iterator[Vec]:
         return iter(self._cols)
 
-    def __getitem__(self, j: int) -> Vec:
+    def __getitem__(self, j: int | Value) -> Vec:
+        if isinstance(j, Value) and j.kind.name in ("Int", "UInt"):
+            n = self.size
+            return vec_type("Float", n)._of([_per_lane_pick([c._c[r] for c in self._cols], j) for r in range(n)])
+        if not isinstance(j, int) or not -self.size <= j < self.size:
+            raise DSLTypeError(f"{type(self).__name__} column index must be an int in [0, {self.size}) or an Int "
+                               f"value, not {j!r}")
         return self._cols[j]
 
     def __len__(self) -> int:
