@@ -125,6 +125,23 @@ class CompileError(ReactorError):
     """LLVM rejected the generated module (a reactor bug; please report it)."""
 
 
+class MissingDependencyError(ReactorError, ImportError):
+    """An optional dependency a feature needs is not installed (the message names its extra)."""
+
+
+def require(module: str, extra: str, feature: str) -> types.ModuleType:
+    """``module`` imported, or a ``MissingDependencyError`` saying that ``feature`` needs it and
+    which extra of reactor-simd installs it."""
+    import importlib
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if exc.name is None or module.split(".")[0] != exc.name.split(".")[0]:
+            raise  # the module is there and imports something missing: its own traceback
+        raise MissingDependencyError(f"{feature} needs {exc.name.split('.')[0]}, which is not installed: "
+                                     f"pip install 'reactor-simd[{extra}]'") from None
+
+
 class CacheWarning(UserWarning):
     """The disk cache cannot be used or kept (not this user's, writable by others, a full or
     read-only disk) or an entry was removed; compiling goes on without it."""

@@ -18,6 +18,7 @@ import typing
 
 import reactor
 from reactor import Fma, Select, vector_type
+from reactor.errors import require
 
 SPLIT = 134217729.0  # 2^27 + 1: Veltkamp's splitter for binary64
 
@@ -85,8 +86,7 @@ def horner(x: Pair, coefficients: typing.Sequence[Pair], start=None) -> Pair:
 
 def constant(value) -> Pair:
     """An mpmath number as the double-double (hi, lo) of Python floats."""
-    import mpmath
-
+    mpmath = require("mpmath", "lab", "routines.doubled.constant")
     with mpmath.workdps(60):
         hi = float(value)
         return hi, float(mpmath.mpf(value) - hi)

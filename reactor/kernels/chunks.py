@@ -13,7 +13,7 @@ import re
 
 import numpy as np
 
-from ..errors import ReactorError
+from ..errors import ReactorError, require
 
 
 def _core_dims(ufunc) -> tuple[list[tuple[int, ...]], list[tuple[int, ...]]]:
@@ -51,7 +51,7 @@ def map_blocks(ufunc, *args):
     """``ufunc(*args)`` as lazy dask arrays, chunk by chunk: one dask array per result (a tuple
     for several). Operands broadcast as in NumPy; vector operands' trailing axes are kept whole in
     every chunk; NumPy arrays are chunked like the dask operands, scalars go to every chunk."""
-    import dask.array as da
+    da = require("dask.array", "distributed", "reactor.map_blocks")
     if not isinstance(ufunc, np.ufunc) or ufunc.nin != len(args):
         raise ReactorError(f"map_blocks takes a kernel and its {getattr(ufunc, 'nin', '?')} operands")
     _check_dtypes(ufunc, args)
