@@ -36,3 +36,31 @@ def test_each_argument_is_named_and_the_ways_on_work():
     assert np.array_equal(blend(np.arange(7, dtype=np.int16), X), blend(np.arange(7, dtype=np.float32), X))
     assert np.array_equal(blend(X, 2.0), X * np.float32(0.25) + np.float32(2.0))  # a Python float beside float32
     assert blend.types[0] == "ff->f"  # the kernel's own loop comes first
+
+
+def test_pows_float64_exponent_and_mgrids_int64_grid_are_named():
+    pow_ = routines.jit("pow")
+    with pytest.raises(TypeError, match=r"argument 'y' is float64 .*astype\(np.float32\)"):
+        pow_(X, np.float64(2.2))
+    assert np.array_equal(pow_(X, np.float32(2.2)), pow_(X, 2.2))  # a Python float beside float32 is float32
+
+    from reactor import vec2
+
+    @kernel(cache=False)
+    def shade(uv: vec2) -> Float:
+        return uv.x * 0.5 + uv.y
+
+    grid = np.stack(np.mgrid[0:4, 0:3], axis=-1)
+    with pytest.raises(TypeError, match=r"argument 'uv' is int64 .*astype\(np.float32\)"):
+        shade(grid)
+    assert np.array_equal(shade(grid.astype(np.float32)), grid[..., 0] * 0.5 + grid[..., 1])
+
+
+def test_a_float64_dask_array_is_named_by_map_blocks():
+    da = pytest.importorskip("dask.array")
+    import reactor
+    exp2 = routines.jit("exp2")
+    lazy = da.from_array(np.linspace(0, 1, 8), chunks=4)
+    with pytest.raises(TypeError, match=r"argument 'x' of 'exp2_full\w*' is float64.*astype\(np.float32\)"):
+        reactor.map_blocks(exp2, lazy)
+    assert np.array_equal(exp2(lazy.astype(np.float32)).compute(), exp2(np.linspace(0, 1, 8).astype(np.float32)))
