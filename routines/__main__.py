@@ -3,8 +3,8 @@
 Commands: remez (fit a minimax polynomial), specials (print the special-value
 tables of docs/specials.md), accuracy (measure a variant's error on the
 compiled code), bench (time every variant against NumPy), zoo (the reference's
-methods, its figures beside ours), chart (the cost/error chart), report (the
-main job: every variant's accuracy and speed, the table, chart and JSON),
+methods, its figures beside ours), chart (the cost/error chart),
+report (every variant's accuracy and speed, a one-screen summary, chart and JSON),
 docs (write docs/routines/*.md from the measurements), search (the variant
 search: the Pareto set of cost vs error), fingerprint (a hash of every
 variant's output bits, to prove a change left them alone), crosstarget (every

@@ -1,6 +1,6 @@
 """``python -m routines report [--quick] [--exhaustive] [--functions F ...|trig|all] [--out DIR] ...``
 
-The main job: builds every variant (function x precision x FMA x SIMD width
+The README's first command: builds every variant (function x precision x FMA x SIMD width
 4/8/16) of the functions (default: exp2 log2 pow exp log rcp rsqrt sqrt;
 ``--functions trig`` for sin cos tan asin acos atan atan2 sinh cosh tanh,
 ``--functions all`` for both, or any list of names) and the peers (NumPy,
@@ -10,8 +10,10 @@ measures their accuracy (the lab's sample by default, every input with
 threads at the DRAM size; the clock calibrated in the same run), models
 every variant's loop, measures the accuracy ladder (``routines.perf.frontier``: every tier
 of exp2, exp, log2, log and pow beside every peer, with which peer each of our points
-dominates), writes ``DIR/report.json`` (every figure) and prints
-the tables and the targets, then draws ``DIR/ladder.png`` (the ladder), ``DIR/chart.png``/``.svg`` (cost vs
+dominates), writes ``DIR/report.json`` (every figure) and prints a one-screen summary
+(per function our tiers beside NumPy and the fastest peer, the peers dominated, the absent peers in
+one line, each target met or missed; ``--verbose``: every variant, peer, model gap and ladder row),
+then draws ``DIR/ladder.png`` (the ladder), ``DIR/chart.png``/``.svg`` (cost vs
 max ULP) and ``DIR/chart-margin.png``/``.svg`` (cost vs margin). The chart
 needs matplotlib (``pip install "reactor-simd[plot]"``); without it the command
 says so in one line and still succeeds. Progress goes to stderr. See
@@ -24,6 +26,7 @@ import os
 import sys
 
 from ..perf import chart, report, timing
+from ..perf.report.summary import summary
 from . import add_quiet, parser as command_parser, positive_int
 from .bench import expand
 
@@ -59,6 +62,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--samples", type=positive_int, metavar="N",
                         help="random inputs of the accuracy sample (default 2^20; quick 2^14)")
     parser.add_argument("--no-threads", action="store_true", help="skip the two-thread timings")
+    parser.add_argument("--verbose", action="store_true",
+                        help="print every variant, peer, model gap and ladder row (default: a one-screen summary)")
     add_quiet(parser, "no progress bars (they are shown only on a terminal anyway)")
     args = parser.parse_args(argv)
     functions = _expand(args.functions)
@@ -74,10 +79,13 @@ def main(argv: list[str]) -> int:
     json_path = os.path.join(args.out, "report.json")
     result["chart"] = []
     _write_json(result, json_path)  # the figures first: the chart is optional and drawn last
-    print(report.print_table(result), flush=True)
     from ..perf import frontier as ladder
     points = ladder.from_json(result["ladder"])
-    if points:
+    if not args.verbose:
+        print(summary(result), flush=True)
+    else:
+        print(report.print_table(result), flush=True)
+    if points and args.verbose:
         print("\nThe accuracy ladder (relaxed, full, faithful, correct) beside every peer: "
               "max ULP-32 on a sample of every binade, ns per element at 64K, one thread\n")
         print(ladder.table(points))

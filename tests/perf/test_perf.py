@@ -6,6 +6,7 @@ report's command without matplotlib."""
 from __future__ import annotations
 
 import json
+import re
 import math
 import subprocess
 import sys
@@ -14,6 +15,7 @@ import numpy as np
 import pytest
 
 from reactor.cost import cpus, model
+from routines.perf.report.summary import summary
 from routines.perf import chart, clock, peers, report, timing
 
 
@@ -253,6 +255,12 @@ def test_report_tiny(tmp_path):
     assert any("exp2 full" in n for n in names) and any("two cores" in n for n in names)
     text = report.print_table(r)
     assert "exp2" in text and "absent" in text and "Targets" in text
+    short = summary(data)  # what the command prints without --verbose: one screen, in words
+    assert len(short.splitlines()) <= 40 and short.count("\nexp2 ") == 1
+    assert re.search(r"^Absent: \d+ peer variants?[:( ]", short, re.M) and "libsleef-not-here" in short
+    assert not re.search(r"\d\.\d{4,}", short), short  # every figure rounded
+    targets = short.split("Targets (same-run ratios):\n")[1].split("\n\n")[0].splitlines()
+    assert len(targets) == len(data["targets"]) and all(re.match(r"  (met|missed|not measured)", t) for t in targets)
     paths = chart.draw(report.chart_panels(data), str(tmp_path / "chart"))
     assert all((tmp_path / p.rsplit("/", 1)[1]).stat().st_size > 1000 for p in paths)
 

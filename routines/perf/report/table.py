@@ -101,7 +101,7 @@ def print_table(report, size: str = "L2") -> str:
     for t in report["targets"]:
         r = t["ratio"]
         lines.append(f"  [{t['status']:>7}] {t['target']}"
-                     + (f": {_f(r):.2f}x (need {t['required']}x)" if r is not None else "")
+                     + (f": {_f(r):.2f}x (need {_f(t['required']):.2f}x)" if r is not None else "")
                      + (f" -- {t['detail']}" if t["detail"] else ""))
     lines.append("")
     lines.append("run time: " + ", ".join(f"{k} {v} s" for k, v in report["seconds"].items()))
