@@ -32,7 +32,7 @@ from .dsl.vectors import (bvec2, bvec3, bvec4, dvec2, dvec3, dvec4, f16vec2, f16
 from .dsl.variables import Variable, is_variable
 from .errors import (
     ArgumentError, ArityError, CompileError, ControlFlowError, DSLTypeError, FmaDisabledError, LoopLimitError,
-    MissingReturnError, ReactorError, ScopeError, WidthMismatchError, hide_frames_of,
+    MissingDependencyError, MissingReturnError, ReactorError, ScopeError, WidthMismatchError, hide_frames_of, require,
 )
 from .ir.types import KINDS, WIDTHS
 from .kernels.kernel import Kernel, kernel, kernel_of
@@ -89,4 +89,5 @@ __all__ = [
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
     "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",
+    "MissingDependencyError", "require",
 ]

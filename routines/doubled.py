@@ -18,7 +18,7 @@ import typing
 
 import reactor
 from reactor import Fma, Select, vector_type
-from reactor.errors import require
+from reactor import require
 
 SPLIT = 134217729.0  # 2^27 + 1: Veltkamp's splitter for binary64
 

@@ -247,7 +247,7 @@ EXP_RELAXED = Polynomial(
 def _trig_fits():
     """name -> (f, weight, a, b, degree): the fits above as mpmath callables of z, for the
     fitter's Python API (the same functions as the commands' expressions)."""
-    from reactor.errors import require
+    from reactor import require
     mp = require("mpmath", "lab", "the fits' mpmath callables")
     S = mp.sqrt
 

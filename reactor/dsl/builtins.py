@@ -7,9 +7,9 @@ from __future__ import annotations
 import typing
 
 _BUILTINS: dict[str, typing.Callable] = {}
-#: ufunc -> (the kernel's body, its precision), or None for a ufunc reactor did not make; set by
-#: the kernels layer (reactor.kernels.kernel), which this layer does not import
-_kernel_body: typing.Callable[[typing.Any], "tuple[typing.Callable, typing.Any] | None"] = lambda ufunc: None
+#: ufunc -> its kernel's body as a call to inline (at the kernel's precision), or None for a ufunc
+#: reactor did not make; set by the kernels layer (reactor.kernels.kernel), which this layer does not import
+_kernel_body: typing.Callable[[typing.Any], "typing.Callable | None"] = lambda ufunc: None
 
 #: NumPy's ufuncs and functions -> GLSL's built-ins of the same meaning
 NUMPY_TO_GLSL = {
@@ -36,8 +36,8 @@ def builtins_table() -> dict[str, typing.Callable]:
     return _BUILTINS
 
 
-def set_kernel_bodies(resolver: typing.Callable[[typing.Any], "tuple[typing.Callable, typing.Any] | None"]) -> None:
-    """Install how a reactor ufunc called in a kernel body finds its body and precision."""
+def set_kernel_bodies(resolver: typing.Callable[[typing.Any], "typing.Callable | None"]) -> None:
+    """Install how a reactor ufunc called in a kernel body finds its body (a call to inline)."""
     global _kernel_body
     _kernel_body = resolver
 
@@ -53,10 +53,7 @@ def inline_kernel(ufunc, inputs: tuple, kwargs: dict):
         from ..errors import DSLTypeError
         raise DSLTypeError(f"kernel {ufunc.__name__} called in a kernel body with NumPy's options "
                            f"({', '.join(kwargs)}=): they have no meaning there; call it with the values alone")
-    body, level = found
-    from .intrinsics import precision
-    with precision(level):
-        return body(*inputs)
+    return found(*inputs)
 
 
 def numpy_call(name: str, args: tuple, kwargs: dict):

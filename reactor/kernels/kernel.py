@@ -49,6 +49,7 @@ from ..errors import DSLTypeError, ReactorError
 from ..ir import emitter as _em
 from ..ir.types import KINDS, PointerType, VType
 from ..dsl.external import External
+from ..dsl.intrinsics import precision
 from ..jit import cache
 from ..jit.compiler import CompiledCode, ShowsCode, cached_object
 from ..dsl.calls import RoutineCall, calls_of
@@ -390,12 +391,16 @@ def group_of(ufunc) -> "Kernels | None":
 
 
 def _body_of(ufunc):
-    """A reactor ufunc's body and precision, for a call of it inside another kernel's body."""
+    """A reactor ufunc's body as a call to inline in another kernel's body, at its own precision."""
     group = group_of(ufunc)
     if group is None:
         return None
     first = group.kernels[0]
-    return first.body, first.build.precision
+
+    def inline(*inputs):
+        with precision(first.build.precision):
+            return first.body(*inputs)
+    return inline
 
 
 _builtins.set_kernel_bodies(_body_of)

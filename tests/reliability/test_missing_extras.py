@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import reactor
-from reactor.errors import MissingDependencyError, require
+from reactor import MissingDependencyError, require
 
 
 @pytest.fixture
