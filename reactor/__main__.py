@@ -1,5 +1,5 @@
 """``python -m reactor dump TARGET [--what ir|opt|asm] [--fma on|off] [--width N] [--target T]``,
-``python -m reactor explain TARGET [--html OUT] [--diff fma=off] [--plumbing]``,
+``python -m reactor explain TARGET [--html OUT] [--diff fma=off] [--plumbing] [--input NAME=LO:HI ...]``,
 ``python -m reactor plan TARGET --input NAME=DOMAIN ... [--output unorm8] [--save PLAN.json]``,
 ``python -m reactor cache info|clear``
 
@@ -21,15 +21,20 @@ EXAMPLES = ("python -m reactor dump examples/custom_routine.py:falloff --what ir
             "python -m reactor dump examples/custom_routine.py:falloff --fma off --width 8 --target avx2")
 
 
-EXPLAIN = """python -m reactor explain TARGET [--html OUT.html] [--diff KEY=VALUE] [--plumbing] [build options]
+EXPLAIN = """python -m reactor explain TARGET [--html OUT.html] [--diff KEY=VALUE] [--plumbing]
+                         [--input NAME=LO:HI|V1,V2,... ...] [--samples N] [build options]
 
 Each Python line of a kernel or Function with the IR and the machine instructions it
 became, the routines it called as their own groups, and its cost (operations by pipe,
-share of the work, critical path) from the dataflow model; --diff compares with a
-second build (fma=off, precision=relaxed, target=avx2, width=8 ...) line by line;
---html writes one self-contained page with three linked columns."""
+share of the work, critical path) from the dataflow model, each line weighed by how
+often it runs: a loop's body by its trip count, measured when every input of the
+kernel is given with --input (N samples, uniform in LO:HI or drawn from the values),
+else estimated (a constant bound, or a stated assumption); the header says which.
+--diff compares with a second build (fma=off, precision=relaxed, target=avx2, width=8
+...) line by line; --html writes only the page (three linked columns) and says where."""
 EXPLAIN_EXAMPLES = ("python -m reactor explain examples/custom_routine.py:falloff",
-                    "python -m reactor explain examples/custom_routine.py:falloff --diff fma=off --html falloff.html")
+                    "python -m reactor explain examples/custom_routine.py:falloff --diff fma=off --html falloff.html",
+                    "python -m reactor explain shade.py:mandel --input cx=-2:0.5 --input cy=-1.25:1.25")
 
 
 PLAN = """python -m reactor plan TARGET --input NAME=DOMAIN ... [--output FORMAT] [--save PLAN.json]
@@ -85,6 +90,11 @@ def _parser() -> ArgumentParser:
                               "width=8, opt=2); repeatable")
     explain.add_argument("--plumbing", action="store_true", help="also the loop control, tail and dispatcher")
     explain.add_argument("--brief", action="store_true", help="per line totals only, no instructions")
+    explain.add_argument("--input", action="append", default=[], metavar="NAME=LO:HI|V1,V2,...",
+                         help="sample values of an input (every input of the kernel): its loops' trip counts are "
+                              "then measured on them; repeatable")
+    explain.add_argument("--samples", type=positive_int, default=1 << 14, metavar="N",
+                         help="elements of the sample run by --input (default 16384)")
     add_build_arguments(explain)
     explain.add_argument("--precision", help="full, relaxed (or GLSL's highp, mediump)")
     plan = sub.add_parser("plan", help="the cheapest precision per call site that changes no output",
@@ -184,22 +194,48 @@ def _diff_options(specs: list[str]) -> dict:
     return out
 
 
+def _explain_inputs(specs: list[str], samples: int) -> dict | None:
+    """``--input NAME=LO:HI`` (uniform samples) or ``NAME=V1,V2,...`` (drawn from the values), each
+    ``samples`` long, by name (None without ``--input``); the draws are seeded (repeatable)."""
+    import numpy as np
+    if not specs:
+        return None
+    rng = np.random.default_rng(0)
+    out = {}
+    for spec in specs:
+        name, eq, values = spec.partition("=")
+        try:
+            if not (eq and name):
+                raise ValueError
+            if ":" in values:
+                lo, hi = (float(v) for v in values.split(":", 1))
+                out[name] = rng.uniform(lo, hi, samples).astype(np.float32)
+            else:
+                out[name] = rng.choice(np.array([float(v) for v in values.split(",")]), samples)
+        except ValueError:
+            raise ReactorError(f"--input takes NAME=LO:HI or NAME=V1,V2,... (cx=-2:0.5, k=1,2,4), "
+                               f"not {spec!r}") from None
+    return out
+
+
 def _explain(args) -> int:
     from .explain import explain
     target = load(args.target)
     chosen = {k: v for k, v in build_options(args).items() if v is not None}
     if args.precision:
         chosen["precision"] = args.precision
-    first = explain(target, plumbing=args.plumbing, **chosen)
+    inputs = _explain_inputs(args.input, args.samples)
+    first = explain(target, plumbing=args.plumbing, inputs=inputs, **chosen)
     diff = None
     if args.diff:
-        second = explain(target, plumbing=args.plumbing, **{**chosen, **_diff_options(args.diff)})
+        second = explain(target, plumbing=args.plumbing, inputs=inputs, **{**chosen, **_diff_options(args.diff)})
         diff = first.diff(second)
+    if args.html:  # the page only: the text listing is in it
+        print(f"wrote {first.write_html(args.html, diff)}")
+        return 0
     print(first.text(instructions=not args.brief))
     if diff is not None:
         print("\n" + diff.text())
-    if args.html:
-        print(f"\nwrote {first.write_html(args.html, diff)}")
     return 0
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import html
 import json
 
-from ..cost.lines import summary_text
+from ..cost.lines import runs_text, summary_text
 
 _STYLE = """
 body { font: 13px/1.35 system-ui, sans-serif; margin: 0; color: #222; }
@@ -80,7 +80,7 @@ def _cost(row) -> str:
         return ""
     ops = ", ".join(f"{n} {c}" for c, n in sorted(row.cost["ops"].items(), key=lambda kv: -kv[1]))
     crit = ' <span class="critical">critical path</span>' if row.cost["critical"] else ""
-    return f'<span class="cost">{_e(ops)}; {row.cost["share"]:.0%} of the work{crit}</span>'
+    return f'<span class="cost">{_e(ops + runs_text(row.cost))}; {row.cost["share"]:.0%} of the work{crit}</span>'
 
 
 def page(explanation, diff=None) -> str:
@@ -89,6 +89,7 @@ def page(explanation, diff=None) -> str:
     head = f"<h1>{_e(e.name)}</h1><div>{_e(e.settings)}</div>"
     if e.costs:
         head += f"<div>{_e(summary_text(e.costs))}</div>"
+    head += "".join(f'<div class="loop">{_e(lp.text())}</div>' for lp in getattr(e, "loops", []))
     source: list[str] = []
     ir: list[str] = []
     asm: list[str] = []

@@ -131,9 +131,13 @@ def test_the_command_line(tmp_path, capsys):
     src.write_text("import routines\nfrom reactor import Float, kernel\n\n@kernel\ndef shade(x: Float) -> Float:\n"
                    "    return routines.pow(x, 2.2)\n")
     out = tmp_path / "shade.html"
-    assert main(["explain", f"{src}:shade", "--diff", "precision=relaxed", "--html", str(out), "--brief"]) == 0
+    assert main(["explain", f"{src}:shade", "--diff", "precision=relaxed", "--brief"]) == 0
     printed = capsys.readouterr().out
-    assert "shade.py:6 [pow]" in printed and "B: target=" in printed and out.exists()
+    assert "shade.py:6 [pow]" in printed and "B: target=" in printed
+    assert main(["explain", f"{src}:shade", "--diff", "precision=relaxed", "--html", str(out)]) == 0
+    assert capsys.readouterr().out == f"wrote {out}\n"  # the page only, and where it went
+    page = out.read_text(encoding="utf-8")
+    assert "shade.py:6 [pow]" in page and "B: target=" in page
     assert main(["explain", f"{src}:shade", "--diff", "fma"]) == 2
 
 
