@@ -5,6 +5,16 @@ per build) -> ``ir`` (value types, the one emitter that speaks llvmlite, the
 operation table) -> ``dsl`` (values, intrinsics, control flow, function
 definitions) -> ``jit`` (LLVM optimization, caches) -> ``runtime`` (compiled
 functions called from Python) and ``kernels`` (compiled loops as NumPy ufuncs).
+
+Value types: ``Float``, ``Int``, ``UInt``, ``Bool`` (masks), ``Double``, ``UByte``, ``UShort``, ``Half``,
+each at widths 1, 4, 8 and 16 (``Float4`` ...), and GLSL's vectors and matrices (``vec3``, ``ivec2``,
+``mat4`` ...); each class's docstring says what it holds. The constants:
+
+- ``WIDTHS``: the SIMD widths of the DSL, ``(1, 4, 8, 16)`` (1 is scalar).
+- ``KINDS``: the element kinds by name (``"Float"`` -> its category, bits and NumPy dtype).
+- ``TARGETS``: the code-generation target names ``get_target`` takes (``"host"``, ``"avx2"`` ...).
+- ``SHADER_TIERS``: the precision tiers every math built-in has, least accurate first
+  (``("relaxed", "full")``, Vulkan's mediump and highp).
 """
 import typing as _typing
 
@@ -46,15 +56,8 @@ from .runtime.function import CompiledModule, Function, Library, Module, Routine
 from .targets import TARGETS, Target, get_target
 
 # Value types: Float, Float4, Float8, Float16, Int, Int4, ..., Bool16 (masks).
-if _typing.TYPE_CHECKING:  # the names the loop below makes; a type checker sees each as Value
-    Float: _typing.TypeAlias = Value; Float4: _typing.TypeAlias = Value; Float8: _typing.TypeAlias = Value; Float16: _typing.TypeAlias = Value  # noqa: E702
-    Double: _typing.TypeAlias = Value; Double4: _typing.TypeAlias = Value; Double8: _typing.TypeAlias = Value; Double16: _typing.TypeAlias = Value  # noqa: E702
-    Int: _typing.TypeAlias = Value; Int4: _typing.TypeAlias = Value; Int8: _typing.TypeAlias = Value; Int16: _typing.TypeAlias = Value  # noqa: E702
-    UInt: _typing.TypeAlias = Value; UInt4: _typing.TypeAlias = Value; UInt8: _typing.TypeAlias = Value; UInt16: _typing.TypeAlias = Value  # noqa: E702
-    Bool: _typing.TypeAlias = Value; Bool4: _typing.TypeAlias = Value; Bool8: _typing.TypeAlias = Value; Bool16: _typing.TypeAlias = Value  # noqa: E702
-    UByte: _typing.TypeAlias = Value; UByte4: _typing.TypeAlias = Value; UByte8: _typing.TypeAlias = Value; UByte16: _typing.TypeAlias = Value  # noqa: E702
-    UShort: _typing.TypeAlias = Value; UShort4: _typing.TypeAlias = Value; UShort8: _typing.TypeAlias = Value; UShort16: _typing.TypeAlias = Value  # noqa: E702
-    Half: _typing.TypeAlias = Value; Half4: _typing.TypeAlias = Value; Half8: _typing.TypeAlias = Value; Half16: _typing.TypeAlias = Value  # noqa: E702
+if _typing.TYPE_CHECKING:  # the classes the loop below makes, with their operators' types (generated)
+    from .dsl.value_types import *  # noqa: F401,F403 - python tools/value_types.py writes it
 for _kind in KINDS:
     for _w in WIDTHS:
         _cls = vector_type(_kind, _w)

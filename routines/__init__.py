@@ -10,6 +10,8 @@ precision, with ``fma=None`` following the enclosing build's FMA setting::
         return routines.pow(x, 1 / 2.2, precision="relaxed")
 
 ``routines.jit(name, precision, fma, width)`` returns a ready NumPy ufunc.
+
+``NAMES``: the names of every routine ``jit`` builds (exp2, exp, log2, ..., atan2).
 """
 from .exponential import exp, exp2
 from .kernels import NAMES, jit

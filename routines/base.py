@@ -68,7 +68,23 @@ def check_tier(level: Precision, routine: str) -> Precision:
     return level
 
 
-def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
+_V = typing.TypeVar("_V", bound=Value)
+
+
+class Builder(typing.Protocol):
+    """What ``@routine`` makes: on DSL values of one type, a value of that type (``exp2(Float4)`` is a
+    ``Float4``; a Python number beside a value takes its type)."""
+
+    @typing.overload
+    def __call__(self, x: _V, /, *more: _V | float, precision: typing.Any = None,
+                 fma: bool | None = None) -> _V: ...
+    @typing.overload
+    def __call__(self, x: float, y: _V, /, *, precision: typing.Any = None, fma: bool | None = None) -> _V: ...
+    @typing.overload
+    def __call__(self, *args: typing.Any, precision: typing.Any = None, fma: bool | None = None) -> Value: ...
+
+
+def routine(fn: typing.Callable[..., Value]) -> Builder:
     """Decorate a builder ``fn(x..., precision)``: validate, then emit under the FMA override."""
     @functools.wraps(fn)
     def build(*args: typing.Any, precision: typing.Any = None, fma: bool | None = None,
@@ -83,7 +99,7 @@ def routine(fn: typing.Callable[..., Value]) -> typing.Callable[..., Value]:
         with fma_mode(fma), reactor.precision(level):
             return reactor.pure_call(fn.__name__, (level.value, fma), args, kwargs, emit)
 
-    return build
+    return typing.cast(Builder, build)
 
 
 _MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000

@@ -35,6 +35,7 @@ with these, as in a shader.
 from __future__ import annotations
 
 import builtins
+import inspect
 import math
 import typing
 
@@ -46,6 +47,7 @@ from reactor import (
 
 from . import trig
 from . import exponential, logarithm, power, reciprocal
+from . import glsl_signatures as _signatures
 
 Scalar = typing.Union[Value, float, int, bool]
 Operand = typing.Union[Scalar, Vec]
@@ -453,6 +455,18 @@ def atan2(y: Operand, x: Operand, **options: typing.Any) -> typing.Any:
 
 BUILTINS: dict[str, typing.Callable[..., typing.Any]] = {
     **COMPONENTWISE, "atan": atan, "atan2": atan2, **GEOMETRIC, **RELATIONAL, **MATRIX, **PACKING}
+
+
+def _takes_precision(fn: typing.Callable[..., typing.Any]) -> bool:
+    """Whether a built-in follows the precision (a routine row, or a function passing options on)."""
+    if isinstance(fn, Builtin):
+        return fn.routine
+    return any(p.kind is p.VAR_KEYWORD for p in inspect.signature(fn).parameters.values())
+
+
+for _name, _builtin in BUILTINS.items():  # docstrings: GLSL's signatures, meaning, precision and FMA
+    _builtin.__doc__ = _signatures.docstring(_name, _builtin, _takes_precision(_builtin))
+del _name, _builtin
 
 globals().update(BUILTINS)
 

@@ -27,26 +27,29 @@ from .values import Operand, Value, binary, common_type, shown, to_ir, unary, va
 if typing.TYPE_CHECKING:
     from .vectors import Vec
 
+#: A value type an intrinsic keeps (``Min(Float4, Float4)`` is a ``Float4``; mixed widths give ``Value``).
+_V = typing.TypeVar("_V", bound=Value)
+
 
 #: Select's forms for composite DSL types: class -> select(mask, a, b) (``reactor.dsl.vectors``
 #: registers the GLSL vectors' own at import)
 SELECT_FORMS: dict[type, Callable] = {}
 
 
-def _binary_fn(op: str, doc: str) -> Callable[[Operand, Operand], Value]:
+def _binary_fn(op: str, doc: str) -> Callable[[_V | float, _V | float], _V]:
     def fn(a: Operand, b: Operand) -> Value:
         return binary(op, a, b, what=fn.__name__)
 
     fn.__doc__ = doc
-    return fn
+    return typing.cast(Callable[[_V | float, _V | float], _V], fn)
 
 
-def _unary_fn(op: str, doc: str) -> Callable[[Operand], Value]:
+def _unary_fn(op: str, doc: str) -> Callable[[_V], _V]:
     def fn(x: Operand) -> Value:
         return unary(op, x, what=fn.__name__)
 
     fn.__doc__ = doc
-    return fn
+    return typing.cast(Callable[[_V], _V], fn)
 
 
 Min = _binary_fn("min", "Lane-wise minimum; a < b ? a : b for floats (NaN -> b).")
@@ -90,6 +93,10 @@ def Select(mask: typing.Any, a: Vec, b: typing.Any) -> Vec: ...
 @typing.overload
 def Select(mask: typing.Any, a: typing.Any, b: Vec) -> Vec: ...
 @typing.overload
+def Select(mask: Value, a: _V, b: _V | float) -> _V: ...
+@typing.overload
+def Select(mask: Value, a: float, b: _V) -> _V: ...
+@typing.overload
 def Select(mask: Value, a: Operand, b: Operand) -> Value: ...
 def Select(mask: typing.Any, a: typing.Any, b: typing.Any) -> typing.Any:
     """Lane-wise ``mask ? a : b``; a scalar Bool mask selects whole vectors; GLSL vectors
@@ -119,22 +126,22 @@ def _fused_args(a, b, c, what):
     return vt, to_ir(a, vt), to_ir(b, vt), to_ir(c, vt)
 
 
-def MulAdd(a: Operand, b: Operand, c: Operand) -> Value:
+def MulAdd(a: _V | float, b: _V | float, c: _V | float) -> _V:
     """``a * b + c``: fused (one rounding) when the build's FMA option is on,
     otherwise a rounded multiply followed by an add. This is the FMA toggle."""
     vt, x, y, z = _fused_args(a, b, c, "MulAdd")
     em = _em.current()
-    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.settings.fma), em)
+    return typing.cast(_V, value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, em.settings.fma), em))
 
 
-def Fma(a: Operand, b: Operand, c: Operand) -> Value:
+def Fma(a: _V | float, b: _V | float, c: _V | float) -> _V:
     """``a * b + c`` with a single rounding; an error in a build with fma=False
     (use ``MulAdd`` for code that should follow the toggle)."""
     vt, x, y, z = _fused_args(a, b, c, "Fma")
     em = _em.current()
     if not em.settings.fma:
         raise FmaDisabledError("Fma used where FMA is off (fma=False); use MulAdd to follow the FMA toggle")
-    return value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, True), em)
+    return typing.cast(_V, value_class(vt)._wrap(ops.fused_multiply_add(em, vt, x, y, z, True), em))
 
 
 @contextlib.contextmanager
@@ -174,7 +181,7 @@ def build_settings() -> Build:
     return current_options().resolved()
 
 
-def As(type_: type[Value], x: Value) -> Value:
+def As(type_: type[_V], x: Value) -> _V:
     """Reinterpret the bits of ``x`` as ``type_`` (same total size), e.g. ``As(Int4, f)``."""
     if not (isinstance(type_, type) and issubclass(type_, Value) and hasattr(type_, "vtype")):
         raise DSLTypeError(f"As needs a DSL type as first argument, not {type_!r}")

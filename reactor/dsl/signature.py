@@ -3,6 +3,9 @@
 Types are written as annotations (``def f(x: Float, p: Pointer[Float, "n"], n: Int) -> Float``)
 or given explicitly. ``SIMD.Float`` (and ``SIMD.Int`` ...) is width-generic: it
 becomes ``Float16``/``Float8``/``Float4`` according to the build's width.
+
+Several results are a tuple of types: ``-> tuple[Float, Bool]`` (what type checkers accept;
+``typing.Tuple[...]`` too) or ``-> (Float, Bool)``; both become the same plain tuple here.
 """
 from __future__ import annotations
 
@@ -59,9 +62,10 @@ if typing.TYPE_CHECKING:
     _Length = _TypeVar("_Length", default=None)
 
     class Pointer(typing.Generic[_Pointee, _Length]):
-        """What a type checker sees: ``Pointer[Float]`` or ``Pointer[Float, Literal["n"]]``."""
+        """What a type checker sees: ``Pointer[Float]`` or ``Pointer[Float, Literal["n"]]``; an
+        element read is of the pointee's type (``p[i]`` of a ``Pointer[Float4]`` is a ``Float4``)."""
 
-        def __getitem__(self, index: int | Value) -> Value: ...
+        def __getitem__(self, index: int | Value) -> _Pointee: ...
         def __setitem__(self, index: int | Value, value: typing.Any) -> None: ...
         def load(self, index: int | Value, width: int) -> Value: ...
         def store(self, index: int | Value, value: Value) -> None: ...
@@ -97,6 +101,49 @@ def resolve(spec, width: int, what: str):
     if isinstance(spec, (VType, PointerType)):
         return spec
     raise DSLTypeError(f"{what}: {spec!r} is not a DSL type (use Float, Int4, SIMD.Float, Pointer[Float] ...)")
+
+
+def _is_type_spec(spec) -> bool:
+    """Whether ``spec`` can name one result: a DSL class, a width-generic, pointer, texture or IR type.
+    (Which of these a function or a kernel takes is checked where it is resolved.)"""
+    if typing.get_origin(spec) is not None or spec is None or spec is Ellipsis:
+        return False  # tuple[...], list[...], Optional[...]: not one type
+    if isinstance(spec, type):
+        from .vectors import Mat, Vec
+        return issubclass(spec, (Value, Vec, Mat))
+    return not isinstance(spec, (tuple, list, str, int, float, typing.ForwardRef))
+
+
+def results_of(returns, name: str):
+    """The result spec of a return annotation: ``tuple[Float, Bool]`` and ``typing.Tuple[Float, Bool]``
+    become the plain tuple ``(Float, Bool)`` (what ``-> (Float, Bool)`` gives); a tuple of no fixed
+    length, an empty one or one holding a non-DSL type is a DSLTypeError naming the problem."""
+    if typing.get_origin(returns) is tuple:
+        items, written = typing.get_args(returns), _spelled(returns)
+    elif isinstance(returns, tuple):
+        items, written = returns, "(" + ", ".join(map(_spelled, returns)) + ")"
+    else:
+        return returns
+    if Ellipsis in items:
+        problem = "a tuple of results needs one type per result (e.g. tuple[Float, Float]), not '...'"
+    elif not items:
+        problem = "an empty tuple of results (write no return annotation for none)"
+    else:
+        bad = [i for i, item in enumerate(items) if not _is_type_spec(item)]
+        if not bad:
+            return tuple(items)
+        problem = (f"result {bad[0] + 1} of {len(items)} is {_spelled(items[bad[0]])}, not a DSL type "
+                   f"(Float, Int, Bool, vec3 ...)")
+    raise DSLTypeError(f"'{name}' returns {written}: {problem}")
+
+
+def _spelled(spec) -> str:
+    """An annotation as it is written (``tuple[Float, Float]``, ``int``)."""
+    if typing.get_origin(spec) is tuple:
+        return "tuple[" + ", ".join(_spelled(a) for a in typing.get_args(spec)) + "]"
+    if isinstance(spec, type) and typing.get_origin(spec) is None:
+        return spec.__name__
+    return "..." if spec is Ellipsis else repr(spec)
 
 
 _HINTS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -151,7 +198,7 @@ class Signature:
                                f"argument type(s) were given")
         if returns is inspect.Parameter.empty:
             returns = hints.get("return")
-        return cls(names, tuple(args), returns)
+        return cls(names, tuple(args), results_of(returns, getattr(body, "__name__", "function")))
 
     def resolved(self, width: int, where: str):
         params = tuple(resolve(p, width, f"{where} parameter '{n}'") for n, p in zip(self.names, self.params))

@@ -177,10 +177,38 @@ class Value:
     __hash__ = object.__hash__
 
 
+def shown(vtype: VType) -> str:
+    """A type's name as the user wrote it, for messages: in a kernel body, ``Float`` for its lane
+    type (``Float16`` in a 16-lane kernel); elsewhere, and for other widths, ``Float4``."""
+    if vtype.width > 1 and _em.building() and is_kernel_body() and vtype.width == _em.current().settings.width:
+        return vtype.kind.name
+    return vtype.name
+
+
 @functools.cache
 def value_class(vtype: VType) -> type[Value]:
     """The Python class for ``vtype`` (e.g. ``VType(Float, 4)`` -> ``Float4``)."""
-    return type(vtype.name, (Value,), {"vtype": vtype, "__slots__": (), "__module__": "reactor"})
+    return type(vtype.name, (Value,), {"vtype": vtype, "__slots__": (), "__module__": "reactor",
+                                       "__doc__": type_doc(vtype)})
+
+
+_ELEMENTS = {"float": "an IEEE binary{bits} float", "int": "a signed {bits}-bit integer (wrapping)",
+             "uint": "an unsigned {bits}-bit integer (wrapping)", "bool": "a mask lane (what comparisons give)"}
+
+
+def type_doc(vtype: VType) -> str:
+    """The docstring of the value class of ``vtype``: its element, lanes and constructors."""
+    kind, width = vtype.kind, vtype.width
+    element = _ELEMENTS[kind.category].format(bits=kind.bits) + f", NumPy {kind.dtype.name}"
+    example = {"float": "1.5", "bool": "True"}.get(kind.category, "3")
+    if width == 1:
+        return (f"{vtype.name}: a DSL value, {element}; in a kernel's body, one per lane of the "
+                f"body's width.\n\n{vtype.name}({example}) is a constant, {vtype.name}(x) converts a value of "
+                f"another kind lane by lane (Int of a float truncates toward zero and saturates; a mask "
+                f"gives 0/1).")
+    return (f"{vtype.name}: a DSL vector of {width} lanes, each {element}.\n\n{vtype.name}({example}) "
+            f"broadcasts a constant, {vtype.name}(a, b, ...) takes {width} lane values, {vtype.name}(x) "
+            f"broadcasts a scalar {kind.name} or converts a value of another kind, lane by lane.")
 
 
 def vector_type(kind: "str | type[Value]", width: int) -> type[Value]:

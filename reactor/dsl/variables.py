@@ -27,6 +27,9 @@ from ..ir.types import PointerType, VType
 from .context import active_mask, is_kernel_body
 from .values import Operand, Value, binary, shown, to_ir, value_class
 
+#: The value type a Variable holds (``Variable(Float, 0.0)`` is a ``Float``).
+_V = typing.TypeVar("_V", bound=Value)
+
 
 class _VariableMixin:
     """Methods shared by every Variable[T] class (T a value type)."""
@@ -123,8 +126,8 @@ VARIABLE_FORMS: dict[type, typing.Callable] = {}
 def Variable(type_or_value: type[Vec] | Vec, init: typing.Any = None, name: str = "var", *,
              uniform: bool = False) -> Vec: ...
 @typing.overload
-def Variable(type_or_value: type[Value] | Value, init: Operand | None = None, name: str = "var", *,
-             uniform: bool = False) -> Value: ...
+def Variable(type_or_value: type[_V] | _V, init: Operand | None = None, name: str = "var", *,
+             uniform: bool = False) -> _V: ...
 def Variable(type_or_value: typing.Any, init: typing.Any = None, name: str = "var", *,
              uniform: bool = False) -> typing.Any:
     """A mutable variable: ``Variable(Float4, 0.0)``, ``Variable(Float4)`` (zero)

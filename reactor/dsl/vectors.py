@@ -295,10 +295,28 @@ def vec_type(kind: Kind | str, size: int) -> type[Vec]:
         raise DSLTypeError(f"no vector of {size} {name} components (sizes 2, 3, 4)") from None
 
 
+def vec_doc(kind: str, size: int) -> str:
+    """The docstring of the vector class of ``size`` components of ``kind``."""
+    name = f"{dict(VECTORS)[kind]}{size}"
+    return (f"{name}: GLSL's {name}, {size} {kind} components, each a DSL value (one per lane in a kernel's "
+            f"body).\n\n{name}(s) fills it with a scalar, {name}(a, b, ...) takes components and shorter "
+            f"vectors, {name}(v) truncates a longer vector; swizzles as in GLSL (v.x, v.yx); operators act per "
+            f"component, comparisons give a bvec{size}.")
+
+
+def mat_doc(size: int) -> str:
+    """The docstring of the square Float matrix class of ``size`` columns."""
+    return (f"mat{size}: GLSL's mat{size}, {size} columns of vec{size} (Float components, column-major)."
+            f"\n\nmat{size}(2.0) is 2 on the diagonal, mat{size}(c0, ...) takes {size} columns or {size * size} components, "
+            f"mat{size}(m) another matrix's upper-left part; m @ v, v @ m and m @ m are the linear-algebra "
+            f"products, m[i] is column i.")
+
+
 for _kind, _prefix in VECTORS:
     for _n in SIZES:
         _VEC_TYPES[_kind, _n] = type(f"{_prefix}{_n}", (Vec,), {"kind": KINDS[_kind], "size": _n,
-                                                                 "__slots__": (), "__module__": "reactor"})
+                                                                 "__slots__": (), "__module__": "reactor",
+                                                                 "__doc__": vec_doc(_kind, _n)})
 
 
 # -- matrices --------------------------------------------------------------------------------
@@ -421,18 +439,19 @@ class Mat:
         return f"<{type(self).__name__}>"
 
 
-_MAT_TYPES = {n: type(f"mat{n}", (Mat,), {"size": n, "__slots__": (), "__module__": "reactor"}) for n in SIZES}
+_MAT_TYPES = {n: type(f"mat{n}", (Mat,), {"size": n, "__slots__": (), "__module__": "reactor",
+                                          "__doc__": mat_doc(n)}) for n in SIZES}
 
 
 def mat_type(size: int) -> type[Mat]:
+    """The square Float matrix class of ``size`` columns (``mat_type(3)`` is ``mat3``)."""
     return _MAT_TYPES[size]
 
 
-if typing.TYPE_CHECKING:
-    vec2 = vec3 = vec4 = dvec2 = dvec3 = dvec4 = ivec2 = ivec3 = ivec4 = Vec
-    uvec2 = uvec3 = uvec4 = bvec2 = bvec3 = bvec4 = Vec
-    u8vec2 = u8vec3 = u8vec4 = u16vec2 = u16vec3 = u16vec4 = f16vec2 = f16vec3 = f16vec4 = Vec
-    mat2 = mat3 = mat4 = Mat
+if typing.TYPE_CHECKING:  # the classes with their operators' types: python tools/value_types.py
+    from .value_types import (bvec2, bvec3, bvec4, dvec2, dvec3, dvec4, f16vec2, f16vec3, f16vec4, ivec2, ivec3,
+                              ivec4, mat2, mat3, mat4, u8vec2, u8vec3, u8vec4, u16vec2, u16vec3, u16vec4, uvec2,
+                              uvec3, uvec4, vec2, vec3, vec4)
 else:
     globals().update({cls.__name__: cls for cls in _VEC_TYPES.values()})
     globals().update({cls.__name__: cls for cls in _MAT_TYPES.values()})
