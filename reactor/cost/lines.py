@@ -57,7 +57,7 @@ def region(fn, start: str = "vec.body") -> tuple[list[str], dict[str, list[str]]
     blocks = {b.name: b for b in fn.blocks}
     if start not in blocks:
         raise ValueError(f"{fn.name} has no vector loop (block {start})")
-    succ = {name: [n for n in model._successors(b) if not n.startswith("tail.")] for name, b in blocks.items()}
+    succ = model.loop_successors(blocks)
     inside = {n for n in blocks if n != start and model._reaches(succ, start, n) and model._reaches(succ, n, start)}
     names = [b.name for b in fn.blocks if b.name == start or b.name in inside]
     keep = set(names)

@@ -576,7 +576,7 @@ def iteration(fn, start: str = "vec.body") -> tuple[list, list[str]]:
         raise ValueError(f"{fn.name} has no vector loop (block {start})")
     # the elements the vector loop cannot read in place go round through reactor_move (blocks
     # ``tail.*``) and back into the body: not part of a vector iteration
-    succ = {name: [n for n in _successors(b) if not n.startswith("tail.")] for name, b in blocks.items()}
+    succ = loop_successors(blocks)
 
     def back_to_start(avoid: str | None) -> bool:
         seen, todo = set(), [n for n in succ[start] if n != avoid]
@@ -604,6 +604,20 @@ def iteration(fn, start: str = "vec.body") -> tuple[list, list[str]]:
     instructions = [i for b in fn.blocks if b.name in every for i in b.instructions]
     skipped = [b.name for b in fn.blocks if b.name in on_path - every]
     return instructions, skipped
+
+
+def loop_successors(blocks: dict) -> dict[str, list[str]]:
+    """Each block's successors as a call of arrays runs the vector loop: not the ``tail.*`` blocks
+    (elements gathered through reactor_move, not part of a vector iteration), and from a branch to
+    ``uniform.else`` (the body's uniform work computed per iteration: ``reactor.ir.hoist``) only
+    that arm, not the one a call takes when the work was done once, so it counts per element."""
+    succ = {}
+    for name, b in blocks.items():
+        names = [n for n in _successors(b) if not n.startswith("tail.")]
+        if any(n.startswith("uniform.else") for n in names):
+            names = [n for n in names if n.startswith("uniform.else")]
+        succ[name] = names
+    return succ
 
 
 def _reaches(succ, a: str, b: str) -> bool:

@@ -89,6 +89,7 @@ class ModuleEmitter:
         self.lines = _SourceLines(self.module) if lines else None
         self.routine_name: str | None = None  # the outermost routine being emitted (for lines)
         self.functions: dict[object, ir.Function] = {}
+        self.pipeline: int | str | None = None  # the optimization this module needs, if not the build's
         self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
         self.import_libraries: dict[str, str | None] = {}  # external symbol -> its library
         self._text: str | None = None
@@ -231,6 +232,14 @@ class _SourceLines:
         if name not in self.groups:
             self.groups.append(name)
         return self.groups.index(name)
+
+    def relocate(self, location, subprogram):
+        """``location`` (a DILocation of another function) in ``subprogram``: same file, line, group."""
+        fields = dict(location.operands)
+        scope = dict(fields["scope"].operands) if fields["scope"].kind == "DILexicalBlockFile" else {}
+        paths = {id(f): p for p, f in self.files.items()}
+        path = paths.get(id(scope["file"])) if "file" in scope else None
+        return self.location(subprogram, path, fields["line"], fields["column"])
 
     def location(self, subprogram, path: str | None, line: int, group: int):
         key = (id(subprogram), path, line, group)
@@ -454,6 +463,20 @@ class FunctionEmitter:
         with self._b.goto_block(self._entry):
             self._b.position_before(self._entry.terminator)
             return self._b.store(value, ptr)
+
+    def entry_cursor(self):
+        """A context in which what is emitted goes to the end of the entry block."""
+        return _at_entry(self)
+
+    def adopt(self, instruction) -> None:
+        """Move ``instruction`` (of another function of this module) to the cursor, unchanged but
+        for its debug location: the same line, in this function's scope."""
+        where = instruction.metadata.pop("dbg", None)
+        if where is not None and self._subprogram is not None and self.module.lines is not None:
+            instruction.metadata["dbg"] = self.module.lines.relocate(where, self._subprogram)
+        instruction.parent = self._b.block
+        instruction.name = instruction.name  # registered in this function's names
+        self._b._insert(instruction)
 
     def load(self, ptr, *, align: int | None = None, name: str = "load"):
         return self._b.load(ptr, name=name, align=align)
@@ -826,6 +849,13 @@ class FunctionEmitter:
                 decide(used)
             self._at_finish.clear()
         return open_blocks
+
+
+@contextlib.contextmanager
+def _at_entry(em: "FunctionEmitter"):
+    with em._b.goto_block(em._entry):
+        em._b.position_before(em._entry.terminator)
+        yield
 
 
 def is_constant(value) -> bool:

@@ -55,7 +55,7 @@ from ..jit.compiler import CompiledCode, ShowsCode, cached_object
 from ..dsl.calls import RoutineCall, calls_of
 from ..dsl.limits import messages_of
 from .recipe import recipe_watch, unchanged
-from . import parallel
+from . import loop, parallel
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
 from .operands import core_layout, gufunc_signature, operand_of
 from .ufunc_api import make_ufunc
@@ -107,28 +107,30 @@ class Kernel(ShowsCode):
         gc.disable()  # tracing makes many objects and frees none: collections there cost, find nothing
         try:
             module = _em.ModuleEmitter(name, build, lines=lines)
-            vector = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else None
+            vector, hoisted = emit_body(module, name, body, ins, outs, build.width) if build.width > 1 else (None, None)
+            size = _size(vector, hoisted) if vector is not None else 0
             # A large body is compiled once: the vector body also serves the elements the vector loop
             # cannot read in place (reactor_move gathers them into W-lane buffers). A small one is
             # traced again at width 1 for them: its copy costs less than the gathering code. Uniform
             # operands, which may differ per element, always take the width-1 body.
-            needs_scalar = (vector is None or any(o.uniform for o in ins)
-                            or _em.ModuleEmitter.instruction_count(vector) < ONE_BODY_MIN)
-            scalar = emit_body(module, name, body, ins, outs, 1) if needs_scalar else None
-            serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width).emit()
+            needs_scalar = vector is None or any(o.uniform for o in ins) or size < ONE_BODY_MIN
+            scalar = emit_body(module, name, body, ins, outs, 1)[0] if needs_scalar else None
+            serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width, hoisted).emit()
             emit_dispatcher(module, f"{name}.ufunc", serial)
             module.text  # noqa: B018 - serialized here, once, still without collections
         finally:
             if collecting:
                 gc.enable()
-        return module, estimated_cycles(vector or scalar, build.width if vector else 1)
+        return module, estimated_cycles(size if vector is not None else _size(scalar, None),
+                                        build.width if vector else 1)
 
     def traced_with_lines(self) -> _em.ModuleEmitter:
         """This kernel's module traced again with source lines (for ``reactor.explain``)."""
         return self._module(self.body, lines=True)[0]
 
     def _recipe(self, body, signature) -> str | None:
-        key, self.watch = recipe_watch(body, "kernel", self.name, signature, self.build.key())
+        build_key = self.build.key() + (() if loop.UNIFORM_WORK else ("no uniform work",))
+        key, self.watch = recipe_watch(body, "kernel", self.name, signature, build_key)
         return key
 
     def unchanged(self) -> bool:
@@ -154,7 +156,8 @@ class Kernel(ShowsCode):
             return None
         self.cycles_per_element, self.messages = found["cycles"], found["messages"]
         self.routines = [RoutineCall(*call) for call in found.get("routines", [])]
-        code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
+        code = CompiledCode(None, build.target, found.get("opt", build.opt), exports, build.cache, imports,
+                            key=found["ir_key"],
                             obj=obj, source=source, ir_source=lambda: self._module(body)[0].text)
         code.source = f"recipe, {source}" if code.source != "compiled" else code.source
         return code
@@ -164,9 +167,10 @@ class Kernel(ShowsCode):
         module, self.cycles_per_element = self._module(body)
         self.messages = messages_of(module)
         self.routines = calls_of(module)
-        code = CompiledCode(module.text, build.target, build.opt, exports, build.cache, module.imports)
+        opt = module.pipeline or build.opt
+        code = CompiledCode(module.text, build.target, opt, exports, build.cache, module.imports)
         if self.recipe:
-            cache.recipe_put(self.recipe, {"ir_key": code.key, "cycles": self.cycles_per_element,
+            cache.recipe_put(self.recipe, {"ir_key": code.key, "opt": opt, "cycles": self.cycles_per_element,
                                            "imports": sorted(module.import_libraries.items()),
                                            "messages": self.messages,
                                            "routines": [dataclasses.astuple(c) for c in self.routines]},
@@ -388,6 +392,12 @@ def group_of(ufunc) -> "Kernels | None":
         ref = _registry.get(id(ufunc))
     group = ref() if ref is not None else None
     return group if group is not None and group.ufunc_ref._id == id(ufunc) else None
+
+
+def _size(body, hoisted) -> int:
+    """The instructions of a body as traced that still run per element (with its uniform work split
+    off, the body keeps its own copy of that work, unused: ``reactor.ir.hoist``)."""
+    return _em.ModuleEmitter.instruction_count(body) - (hoisted.dead if hoisted else 0)
 
 
 def _body_of(ufunc):

@@ -41,13 +41,16 @@ from ..dsl.control import final_results
 from ..dsl.values import to_ir, value_class
 from ..errors import DSLTypeError, at_return_of, return_location
 from ..ir import emitter as _em
-from ..ir import fpenv, ops
+from ..ir import fpenv, hoist, ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
 from ..dsl.limits import STATUS, messages_of
 from . import abi
 
 BOOL = KINDS["Bool"]
+#: Whether vector bodies split their uniform work off (``reactor.ir.hoist``); off only to measure it
+#: (benchmarks/bench_uniform.py builds both ways).
+UNIFORM_WORK = True
 BOOL_MEM = VType(T.BYTE_KIND, 1)
 
 
@@ -90,7 +93,9 @@ class KernelBody:
 
 def emit_body(module, name: str, body, ins, outs, width: int):
     """The internal function ``<name>.body`` (or ``.body1`` at width 1): the user's body traced
-    at ``width``; ``ins`` and ``outs`` are Operands (``reactor.kernels.operands``)."""
+    at ``width``; ``ins`` and ``outs`` are Operands (``reactor.kernels.operands``). With two
+    inputs or more, a vector body's uniform work is split off (``reactor.ir.hoist``): then it
+    takes the slots pointer last, and the ``Hoisted`` comes back with it (else None)."""
     from ..dsl.control import check_python_returns
 
     check_python_returns(body)
@@ -98,10 +103,15 @@ def emit_body(module, name: str, body, ins, outs, width: int):
     ret = out_types[0] if len(out_types) == 1 else T.StructType(tuple(out_types))
     params: list = []
     groups: list[tuple[int, int]] = []
-    for o in ins:
+    param_inputs: list = []
+    for k, o in enumerate(ins):
         types = o.body_params(width)
         groups.append((len(params), len(types)))
         params.extend(types)
+        param_inputs.extend([None if o.uniform else k] * len(types))
+    uniform_work = UNIFORM_WORK and width > 1 and len({i for i in param_inputs if i is not None}) > 1
+    if uniform_work:
+        params.append(T.BYTES)
     fname = f"{name}.body" if width > 1 or module.build.width == 1 else f"{name}.body1"
     em = _em.FunctionEmitter(module, fname, ret, params, [f"x{k}" for k in range(len(params))],
                              width=width, internal=True)
@@ -131,7 +141,8 @@ def emit_body(module, name: str, body, ins, outs, width: int):
             em.position_at(block)
             em.ret(irs[0] if isinstance(ret, VType) else em.pack(ret, irs))
         em.finish()
-    return em.function
+        hoisted = hoist.split(module, em, param_inputs) if uniform_work else None
+    return em.function, hoisted
 
 
 @dataclasses.dataclass
@@ -158,10 +169,12 @@ class LoopEmitter:
     """Emits ``<name>.loop`` around the body functions of a kernel (``vector`` at the
     build's width, None when it is 1; ``scalar`` at width 1) for its Operands."""
 
-    def __init__(self, module, name: str, vector, scalar, ins, outs, width: int):
+    def __init__(self, module, name: str, vector, scalar, ins, outs, width: int, hoisted=None):
         from .operands import core_layout
 
         self.vector_fn, self.scalar_fn = vector, scalar
+        self.hoisted: hoist.Hoisted | None = hoisted  # the vector body's uniform work (reactor.ir.hoist)
+        self.uses_slots = vector is not None and len(vector.args) > sum(len(o.body_params(width)) for o in ins)
         self.ins, self.outs, self.width = list(ins), list(outs), width
         self.operands = self.ins + self.outs
         # the iterated operands (elements and vectors), inputs first: the loop's columns
@@ -206,6 +219,8 @@ class LoopEmitter:
             self.strides = [[em.load(em.address(steps, t), name=f"stride{k}.{j}") for j, t in enumerate(ts)]
                             for k, ts in enumerate(self.core_strides)]
             status = fpenv.save_status(em)
+            if self.vector_fn is not None and self.uses_slots:
+                self._uniform_work_once()
             self.i = em.alloca(INDEX, "i")
             em.store(_idx(0), self.i)
             scalar = em.new_block("scalar")
@@ -220,6 +235,52 @@ class LoopEmitter:
             em.ret(None)
             em.finish()
         return em.function
+
+    def _uniform_work_once(self) -> None:
+        """The slots of the body's uniform work, and each group computed here, once, when every
+        input it depends on is broadcast in this call (stride 0; with at least one element)."""
+        em, W = self.em, self.width
+        hoisted = self.hoisted
+        size = hoisted.slots if hoisted is not None else VType(T.BYTE_KIND, 1)
+        self.slots = em.cast_pointer(em.alloca(size, "slots"), VType(T.BYTE_KIND, 1), name="slots.p")
+        self.once = []
+        if hoisted is None:
+            return
+        some = self._cmp("gt", self.n, _idx(0))
+        self.any_once = T.const(VType(BOOL, 1), 0)
+        for group in hoisted.groups:
+            flag = self._all([some] + [self._cmp("eq", self.steps[k], _idx(0)) for k in sorted(group.inputs)])
+            self.once.append(flag)
+            self.any_once = ops.binary(em, "or", VType(BOOL, 1), self.any_once, flag)
+            with em.if_then(flag, name="uniform"):
+                args: list = []
+                for k, o in enumerate(self.ins):
+                    types = o.body_params(W)
+                    if k in group.inputs:
+                        for addr in self._element_addresses(k, _idx(0)):
+                            one = ops.load(em, VType(o.kind, 1), addr, name=f"u{k}")
+                            args.append(em.splat(one, W, name=f"u{k}.splat"))
+                    else:
+                        args.extend(T.undefined(t) for t in types)
+                em.call(group.function, args + [self.slots], inline="always")
+
+    def _uniform_work_per_iteration(self, xs: list) -> list:
+        """The groups not computed once, computed for this iteration's ``xs``; the body's arguments."""
+        if not self.uses_slots:
+            return xs
+        em = self.em
+        if self.hoisted is not None:
+            # a call with every group's inputs arrays (the usual) runs them in one straight line
+            with em.if_else(self.any_once, name="uniform") as (some, none):
+                with some:
+                    true = T.const(VType(BOOL, 1), 1)
+                    for group, once in zip(self.hoisted.groups, self.once):
+                        with em.if_then(ops.binary(em, "xor", VType(BOOL, 1), once, true), name="varying"):
+                            em.call(group.function, xs + [self.slots], inline="always")
+                with none:
+                    for group in self.hoisted.groups:
+                        em.call(group.function, xs + [self.slots], inline="always")
+        return xs + [self.slots]
 
     def _channel_stride(self, k):
         """The byte distance between the channels of a vector operand ``k``."""
@@ -357,7 +418,7 @@ class LoopEmitter:
                 xs.extend(run.uniforms[k])
             else:
                 xs.extend(self._load_vector(o, ptrs[k], f"x{k}"))
-        results = self._call(self.vector_fn, xs, inline="always")
+        results = self._call(self.vector_fn, self._uniform_work_per_iteration(xs), inline="always")
         at = 0
         for jo, o in enumerate(self.outs):
             self._store_vector(o, results[at:at + o.channels], ptrs[len(self.ins) + jo])
@@ -488,11 +549,11 @@ def _vector_hint(outs, result) -> str:
     return ""
 
 
-def estimated_cycles(body_fn, width: int) -> float:
-    """A rough cost of one element: the body's instructions (as built) over the width, at
+def estimated_cycles(instructions: int, width: int) -> float:
+    """A rough cost of one element: the body's ``instructions`` (as built) over the width, at
     two vector instructions per cycle, plus the loop's own. It only decides whether a call
     is worth splitting across threads."""
-    return _em.ModuleEmitter.instruction_count(body_fn) / width / 2 + 0.25
+    return instructions / width / 2 + 0.25
 
 
 def _raise_runaway(em, data) -> None:
