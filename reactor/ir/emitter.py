@@ -89,7 +89,6 @@ class ModuleEmitter:
         self.lines = _SourceLines(self.module) if lines else None
         self.routine_name: str | None = None  # the outermost routine being emitted (for lines)
         self.functions: dict[object, ir.Function] = {}
-        self.pipeline: int | str | None = None  # the optimization this module needs, if not the build's
         self.imports: dict[str, int] = {}  # external symbol -> address (see dsl/external.py)
         self.import_libraries: dict[str, str | None] = {}  # external symbol -> its library
         self._text: str | None = None

@@ -52,9 +52,6 @@ class Hoisted:
 
     groups: list[Group]
     slots: ir.LiteralStructType
-    #: whether uniform work stays behind a branch on a uniform condition (a routine's rare path,
-    #: taken or not for the whole call), which only LLVM's loop unswitching and LICM lift out
-    behind_branches: bool = False
     #: the body's instructions that only computed the groups (left, unused, to dead-code elimination)
     dead: int = 0
 
@@ -151,10 +148,9 @@ def split(module: "_em.ModuleEmitter", em: "_em.FunctionEmitter", param_inputs: 
     made = [Group(d, _group_function(module, em, k, d, [v for v in crossing if deps[id(v)] == d], deps, kept,
                                      slot_of, slots, position))
             for k, d in enumerate(kept)]
-    behind_branches = _uniform_branch(body, deps, every)
     _read_slots(em, crossing, slots)
     dead = sum(1 for block in body.blocks for i in block.instructions if deps.get(id(i)) in set(kept))
-    return Hoisted(made, slots, behind_branches, dead)
+    return Hoisted(made, slots, dead)
 
 
 def _always_run(body: ir.Function) -> set:
@@ -180,17 +176,6 @@ def _always_run(body: ir.Function) -> set:
                 dom[n], changed = new, True
     exits = [b.name for b in blocks if b.is_terminated and b.terminator.opname == "ret"]
     return set.intersection(*(dom[e] for e in exits)) if exits else {names[0]}
-
-
-def _uniform_branch(body: ir.Function, deps: dict, every: frozenset) -> bool:
-    """Whether a conditional branch of the body depends on some inputs only."""
-    for block in body.blocks:
-        last = block.instructions[-1] if block.instructions else None
-        if last is not None and last.opname == "br" and len(last.operands) == 3:
-            d = deps.get(id(last.operands[0]))
-            if d and d != every:
-                return True
-    return False
 
 
 def _worth_splitting(body: ir.Function, deps: dict, every: frozenset) -> list:

@@ -47,7 +47,7 @@ from ..dsl.signature import Signature
 from ..dsl.values import value_class
 from ..errors import DSLTypeError, ReactorError
 from ..ir import emitter as _em
-from ..ir.types import KINDS, PointerType, VType
+from ..ir.types import KINDS, VType
 from ..dsl.external import External
 from ..dsl.intrinsics import precision
 from ..jit import cache
@@ -156,8 +156,7 @@ class Kernel(ShowsCode):
             return None
         self.cycles_per_element, self.messages = found["cycles"], found["messages"]
         self.routines = [RoutineCall(*call) for call in found.get("routines", [])]
-        code = CompiledCode(None, build.target, found.get("opt", build.opt), exports, build.cache, imports,
-                            key=found["ir_key"],
+        code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
                             obj=obj, source=source, ir_source=lambda: self._module(body)[0].text)
         code.source = f"recipe, {source}" if code.source != "compiled" else code.source
         return code
@@ -167,10 +166,9 @@ class Kernel(ShowsCode):
         module, self.cycles_per_element = self._module(body)
         self.messages = messages_of(module)
         self.routines = calls_of(module)
-        opt = module.pipeline or build.opt
-        code = CompiledCode(module.text, build.target, opt, exports, build.cache, module.imports)
+        code = CompiledCode(module.text, build.target, build.opt, exports, build.cache, module.imports)
         if self.recipe:
-            cache.recipe_put(self.recipe, {"ir_key": code.key, "opt": opt, "cycles": self.cycles_per_element,
+            cache.recipe_put(self.recipe, {"ir_key": code.key, "cycles": self.cycles_per_element,
                                            "imports": sorted(module.import_libraries.items()),
                                            "messages": self.messages,
                                            "routines": [dataclasses.astuple(c) for c in self.routines]},

@@ -38,7 +38,6 @@ import typing
 
 from ..dsl.context import begin, check_entered
 from ..dsl.control import final_results
-from ..dsl.values import to_ir, value_class
 from ..errors import DSLTypeError, at_return_of, return_location
 from ..ir import emitter as _em
 from ..ir import fpenv, hoist, ops
