@@ -171,29 +171,48 @@ def _reduce_double(ax):
     return Float_(r), Float_(q)
 
 
-def _reduce(ax, parts):
-    """|x| = q pi/2 + r: (r as Float, q mod 4 as Int); ``parts`` of pi/2 in the float32 path
-    with FMA (2 or 3)."""
-    Float_ = _types(ax)[0]
+def _reduce_fast(ax, parts):
+    """|x| = q pi/2 + r on the float32 path, right where |x| <= the fast path's limit: (r, q as
+    Float, the lanes beyond that limit); ``parts`` of pi/2 with FMA (2 or 3)."""
     fma = reactor.build_settings().fma
     q = Round(ax * TWO_OVER_PI)
     r = ax
     for part in (PIO2_F32[:parts] if fma else PIO2_SPLIT):
         r = MulAdd(q, -part, r)                             # fused: the first step is exact;
     limit = FAST_LIMIT if fma else SPLIT_LIMIT              # unfused: q * part is exact
+    return r, q, ax > limit                                 # NaN stays on the fast path (NaN)
+
+
+def _reduce_beyond(ax, large, r, q):
+    """(r, q) of the lanes ``large`` beyond the float32 path (double lanes, Payne-Hanek beyond
+    2^17), the others' ``r``, ``q`` kept; emitted where some lane is large."""
+    Float_ = _types(ax)[0]
     r_var, q_var = Variable(Float_, r), Variable(Float_, q)
-    large = ax > limit                                      # NaN stays on the fast path (NaN)
+    if not reactor.build_settings().fma:
+        r_mid, q_mid = _reduce_double(ax)
+        r_var.set(Select(large, r_mid, r_var))
+        q_var.set(Select(large, q_mid, q_var))
+    huge = ax > FAST_LIMIT
+    with If(Any(huge)):
+        r_large, q_large = _reduce_large(ax)
+        r_var.set(Select(huge, r_large, r_var))
+        q_var.set(Select(huge, q_large, q_var))
+    return r_var.value, q_var.value
+
+
+def _reduced(x, parts, finish):
+    """``finish(r, q)`` (q: the quadrant mod 4, as Int) of |x| = q pi/2 + r, the whole function
+    first on the float32 path, straight-line, then again where some lane lies beyond it (the same
+    operations on those lanes' r and q, so the same bits as one pass over a merged r and q). The
+    common path ends in one value and one rare branch, so a kernel computes it once per call
+    when x is broadcast (reactor.ir.hoist)."""
+    ax = Abs(x)
+    r, q, large = _reduce_fast(ax, parts)
+    result = Variable(type(x), finish(r, ToInt(q, saturate=False) & 3))
     with If(Any(large)):
-        if not fma:
-            r_mid, q_mid = _reduce_double(ax)
-            r_var.set(Select(large, r_mid, r_var))
-            q_var.set(Select(large, q_mid, q_var))
-        huge = ax > FAST_LIMIT
-        with If(Any(huge)):
-            r_large, q_large = _reduce_large(ax)
-            r_var.set(Select(huge, r_large, r_var))
-            q_var.set(Select(huge, q_large, q_var))
-    return r_var.value, ToInt(q_var.value, saturate=False) & 3
+        r_far, q_far = _reduce_beyond(ax, large, r, q)
+        result.set(Select(large, finish(r_far, ToInt(q_far, saturate=False) & 3), result))
+    return result.value
 
 
 def _parts(precision) -> int:
@@ -224,32 +243,38 @@ def _sign_of(x):
 def sin(x, precision: Precision = Precision.FULL):
     """sin(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "sin")
-    r, q = _reduce(Abs(x), _parts(precision))
-    s, c = _sin_cos_of_reduced(r, precision)
-    v = Select((q & 1) != 0, c, s)
-    return _flip(nan_rule(v, Abs(x)), ((q & 2) << 30) ^ _sign_of(x)).named("sin")
+
+    def finish(r, q):
+        s, c = _sin_cos_of_reduced(r, precision)
+        v = Select((q & 1) != 0, c, s)
+        return _flip(nan_rule(v, Abs(x)), ((q & 2) << 30) ^ _sign_of(x))
+    return _reduced(x, _parts(precision), finish).named("sin")
 
 
 @routine
 def cos(x, precision: Precision = Precision.FULL):
     """cos(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "cos")
-    r, q = _reduce(Abs(x), _parts(precision))
-    s, c = _sin_cos_of_reduced(r, precision)
-    q = q + 1
-    v = Select((q & 1) != 0, c, s)
-    return _flip(nan_rule(v, Abs(x)), (q & 2) << 30).named("cos")
+
+    def finish(r, q):
+        s, c = _sin_cos_of_reduced(r, precision)
+        q = q + 1
+        v = Select((q & 1) != 0, c, s)
+        return _flip(nan_rule(v, Abs(x)), (q & 2) << 30)
+    return _reduced(x, _parts(precision), finish).named("cos")
 
 
 @routine
 def tan(x, precision: Precision = Precision.FULL):
     """tan(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "tan")
-    r, q = _reduce(Abs(x), 3)                               # near a pole, tan ~ 1/r: r's error counts
-    s, c = _sin_cos_of_reduced(r, precision)
-    odd = (q & 1) != 0
-    v = Select(odd, c, s) / Select(odd, -s, c)
-    return _flip(nan_rule(v, Abs(x)), _sign_of(x)).named("tan")
+
+    def finish(r, q):                                       # near a pole, tan ~ 1/r: r's error counts
+        s, c = _sin_cos_of_reduced(r, precision)
+        odd = (q & 1) != 0
+        v = Select(odd, c, s) / Select(odd, -s, c)
+        return _flip(nan_rule(v, Abs(x)), _sign_of(x))
+    return _reduced(x, 3, finish).named("tan")
 
 
 # -- asin, acos --------------------------------------------------------------
