@@ -463,6 +463,17 @@ class FunctionEmitter:
             self._b.position_before(self._entry.terminator)
             return self._b.store(value, ptr)
 
+    @contextlib.contextmanager
+    def block_start(self, block):
+        """A context in which what is emitted goes to the start of ``block`` (after its phis)."""
+        phis = [i for i in block.instructions if isinstance(i, ir.PhiInstr)]
+        with self._b.goto_block(block):
+            if phis:
+                self._b.position_after(phis[-1])
+            else:
+                self._b.position_at_start(block)
+            yield
+
     def entry_cursor(self):
         """A context in which what is emitted goes to the end of the entry block."""
         return _at_entry(self)

@@ -139,16 +139,17 @@ def split(module: "_em.ModuleEmitter", em: "_em.FunctionEmitter", param_inputs: 
             # work behind a branch (a routine's rare path) is never computed where it was not
             deps[id(instruction)] = _dependence(instruction, deps) if block.name in always else None
             position[id(instruction)] = len(position)
-    kept = _worth_splitting(body, deps, every)
+    kept = _worth_splitting(body, deps, every, always)
     if not kept:
         return None
-    crossing = [i for i in _crossing(body, deps, kept)]
+    crossing = _crossing(body, deps, kept, always)
     slot_of = {id(v): k for k, v in enumerate(crossing)}
     slots = ir.LiteralStructType([v.type for v in crossing])
     made = [Group(d, _group_function(module, em, k, d, [v for v in crossing if deps[id(v)] == d], deps, kept,
                                      slot_of, slots, position))
             for k, d in enumerate(kept)]
     _read_slots(em, crossing, slots)
+    _recompute_where_rare(em, deps, kept, always, position)
     dead = sum(1 for block in body.blocks for i in block.instructions if deps.get(id(i)) in set(kept))
     return Hoisted(made, slots, dead)
 
@@ -178,10 +179,11 @@ def _always_run(body: ir.Function) -> set:
     return set.intersection(*(dom[e] for e in exits)) if exits else {names[0]}
 
 
-def _worth_splitting(body: ir.Function, deps: dict, every: frozenset) -> list:
+def _worth_splitting(body: ir.Function, deps: dict, every: frozenset, always: set) -> list:
     """The input sets whose groups are split off: at least ``MIN_GROUP`` instructions, and
-    ``PER_RESULT`` per result the body reads, on at most half the inputs (a group of more is rarely
-    all broadcast while others are arrays); at most ``MAX_GROUPS`` of them (fewest inputs, then most
+    ``PER_RESULT`` per result the body reads, on at most a third of the inputs (or one; a group of
+    more is rarely all broadcast while others are arrays, and its branch in the loop costs the sky
+    shader 4% when they are arrays); at most ``MAX_GROUPS`` of them (fewest inputs, then most
     instructions, first), smallest first."""
     sizes: dict = {}
     for block in body.blocks:
@@ -189,9 +191,9 @@ def _worth_splitting(body: ir.Function, deps: dict, every: frozenset) -> list:
             d = deps[id(instruction)]
             if d and d != every:
                 sizes[d] = sizes.get(d, 0) + 1
-    big = [d for d, n in sizes.items() if n >= MIN_GROUP and 2 * len(d) <= len(every)]
+    big = [d for d, n in sizes.items() if n >= MIN_GROUP and len(d) <= max(1, len(every) // 3)]
     outputs: dict = {}
-    for value in _crossing(body, deps, big):
+    for value in _crossing(body, deps, big, always):
         outputs[deps[id(value)]] = outputs.get(deps[id(value)], 0) + 1
     # each result the body reads from a group is a register its loop keeps: worth it for real work
     big = sorted((d for d in big if sizes[d] >= PER_RESULT * outputs.get(d, 0)),
@@ -203,18 +205,56 @@ def _worth_splitting(body: ir.Function, deps: dict, every: frozenset) -> list:
     return sorted(kept, key=lambda d: (len(d), sorted(d)))
 
 
-def _crossing(body: ir.Function, deps: dict, kept: list) -> list:
-    """The values of kept groups that an instruction outside their group reads, in order."""
+def _crossing(body: ir.Function, deps: dict, kept: list, always: set) -> list:
+    """The values of kept groups that an instruction outside their group reads where every run
+    passes (or a phi), in order: the slots. Those read only on a rare path are computed again
+    there (``_recompute_where_rare``)."""
     kept_set = set(kept)
     crossing: set = set()
     for block in body.blocks:
         for instruction in block.instructions:
+            if block.name not in always and not isinstance(instruction, ir.PhiInstr):
+                continue
             own = deps.get(id(instruction))
             for op in _operands(instruction):
                 d = deps.get(id(op))
                 if d in kept_set and d != own:
                     crossing.add(id(op))
     return [i for block in body.blocks for i in block.instructions if id(i) in crossing]
+
+
+def _recompute_where_rare(em, deps: dict, kept: list, always: set, position: dict) -> None:
+    """Each block off the common path computes again, at its start, the groups' values it reads
+    that have no slot, so the body's own copies are left unused."""
+    kept_set = set(kept)
+    for block in list(em.function.blocks):
+        if block.name in always:
+            continue
+        wanted = {id(op): op for i in block.instructions if not isinstance(i, ir.PhiInstr)
+                  for op in _operands(i) if isinstance(op, ir.Instruction) and deps.get(id(op)) in kept_set}
+        if not wanted:
+            continue
+        needed: dict = {}
+        todo = list(wanted.values())
+        while todo:
+            value = todo.pop()
+            if id(value) not in needed:
+                needed[id(value)] = value
+                todo += [op for op in _operands(value)
+                         if isinstance(op, ir.Instruction) and deps.get(id(op)) in kept_set]
+        copies: dict = {}
+        with em.block_start(block):
+            for value in sorted(needed.values(), key=lambda i: position[id(i)]):
+                copy = _clone(value)
+                for op in _distinct(_operands(value)):
+                    if id(op) in copies:
+                        _replace(copy, op, copies[id(op)])
+                em.adopt(copy)
+                copies[id(value)] = copy
+        for instruction in block.instructions:
+            for op in _distinct(_operands(instruction)):
+                if id(op) in copies:
+                    _replace(instruction, op, copies[id(op)])
 
 
 def _clone(instruction):
