@@ -270,3 +270,17 @@ def test_cache_command_shows_and_clears(tmp_path):
                            env=env, cwd=ROOT)
     assert clear.returncode == 0 and "removed" in clear.stdout
     assert [p.name for p in d.iterdir()] == ["secret.key"]
+
+
+def test_writes_scan_the_directory_once_while_under_the_bound(fresh, monkeypatch):
+    scans = []
+    real = cache._entries
+    monkeypatch.setattr(cache, "_entries", lambda root: scans.append(root) or real(root))
+    with cache._memory_lock:
+        cache._believed.clear()
+    for i in range(4):
+        kernel(_body(31.5 + i), name=f"scan_{i}")  # each writes an object and a recipe
+    assert len(scans) == 1  # a cache of ten thousand entries costs one scan a process, not one a write
+    monkeypatch.setenv("REACTOR_CACHE_SIZE", "1")  # past the bound: scanned and evicted again
+    kernel(_body(41.5), name="scan_past")
+    assert len(scans) >= 2
