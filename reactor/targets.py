@@ -31,7 +31,13 @@ def _llvm_ready() -> None:
     llvm.initialize_native_target()
     llvm.initialize_native_asmprinter()
     llvm.initialize_native_asmparser()
-    llvm.initialize_all_targets()  # other architectures' code generators (~2 ms)
+
+
+@functools.cache
+def _all_architectures() -> None:
+    """Other architectures' code generators: ~2 ms, paid only by a build for one (AArch64)."""
+    _llvm_ready()
+    llvm.initialize_all_targets()
     llvm.initialize_all_asmprinters()
 
 
@@ -90,6 +96,8 @@ class Target:
     @functools.cached_property
     def machine(self) -> llvm.TargetMachine:
         _llvm_ready()
+        if self.arch != host_arch():
+            _all_architectures()
         return llvm.Target.from_triple(self.triple).create_target_machine(
             cpu=self.cpu, features=self.features, opt=3, reloc="pic", codemodel="default"
         )
