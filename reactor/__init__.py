@@ -52,6 +52,7 @@ from .kernels.pickling import travels_as  # also registers how reactor ufuncs pi
 from .explain import explain
 from .planner import Plan, PlanStaleError, Range, Rows, plan
 from .kernels.parallel import configure as configure_threads, settings as thread_settings
+from .kernels.tiers import configure as configure_tiers, finish as finish_tiers
 from .runtime.function import CompiledModule, Function, Library, Module, Routine, function
 from .targets import TARGETS, Target, get_target
 
@@ -87,7 +88,7 @@ __all__ = [
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
     "Function", "function", "Module", "CompiledModule", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
-    "configure_threads", "thread_settings", "RoutineCall", "routine_call", "pure_call", "site_choice", "explain",
+    "configure_threads", "thread_settings", "configure_tiers", "finish_tiers", "RoutineCall", "routine_call", "pure_call", "site_choice", "explain",
     "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow", "hint", "syntax", "from_glsl", "from_spirv", "set_glsl_builtins",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",

@@ -110,20 +110,22 @@ class CompiledCode:
     def __init__(self, ir_text: str | None, target: Target, opt: int | str, exports: tuple[str, ...],
                  use_disk_cache: bool = True, imports: dict[str, int] | None = None, *,
                  key: str | None = None, obj: bytes | None = None, source: str = "memory cache",
-                 ir_source=None):
+                 ir_source=None, quick: bool = False):
         self.target, self.opt = target, opt
         self._ir_text, self._ir_source = ir_text, ir_source
+        self.quick = quick  # emitted at LLVM's quickest code generation, never cached
         if key is None:
             if ir_text is None:
                 raise ValueError("CompiledCode needs the IR text or the key of IR built before")
-            key = cache_key(ir_text, target, opt)
+            key = cache_key(ir_text, target, opt) + ("/quick" if quick else "")
         self.key = key
         self.source = source  # where a given ``obj`` came from
-        if obj is None:
+        if obj is None and not quick:
             obj, self.source = cached_object(self.key, use_disk_cache)
         if obj is None:
-            obj = self._compile(use_disk_cache)
-        cache.memory_put(self.key, obj)
+            obj = self._compile(use_disk_cache and not quick)
+        if not quick:
+            cache.memory_put(self.key, obj)
         self.object = obj
         self._addresses: dict[str, int] = {}
         self._tracker = None
@@ -132,7 +134,7 @@ class CompiledCode:
         try:
             self._link(imports, exports)
         except RuntimeError as exc:
-            if self.source == "compiled":
+            if self.source.startswith("compiled"):
                 raise CompileError(f"LLVM could not link the module it compiled: {exc}") from None
             # an authenticated entry that still fails to link (an llvmlite or library change):
             # heal the cache instead of failing in every later process
@@ -145,10 +147,10 @@ class CompiledCode:
 
     def _compile(self, use_disk_cache: bool) -> bytes:
         """Object code from the IR (built again from its source if it came from a recipe)."""
-        self.source = "compiled"
+        self.source = "compiled quickly" if self.quick else "compiled"
         mod = pipeline(self.ir_text, self.target, self.opt)
         with _lock:
-            obj = self.target.machine.emit_object(mod)
+            obj = (self.target.quick_machine if self.quick else self.target.machine).emit_object(mod)
         if use_disk_cache:
             cache.disk_put(self.key, obj)
         return obj

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
+import functools
 import gc
 import threading
 import typing
@@ -55,10 +56,10 @@ from ..jit.compiler import CompiledCode, ShowsCode, cached_object
 from ..dsl.calls import RoutineCall, calls_of
 from ..dsl.limits import messages_of
 from .recipe import recipe_watch, unchanged
-from . import loop, parallel
+from . import loop, parallel, tiers
 from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
 from .operands import core_layout, gufunc_signature, operand_of
-from .ufunc_api import make_ufunc
+from .ufunc_api import loop_table, make_ufunc
 
 _registry: "dict[int, weakref.ref[Kernels]]" = {}
 _registry_lock = threading.Lock()
@@ -166,14 +167,32 @@ class Kernel(ShowsCode):
         module, self.cycles_per_element = self._module(body)
         self.messages = messages_of(module)
         self.routines = calls_of(module)
-        code = CompiledCode(module.text, build.target, build.opt, exports, build.cache, module.imports)
+        full = (module.text, build.target, build.opt, exports, build.cache, module.imports)
+        if tiers.enabled() and build.target.runnable:
+            self.full_compile: tuple | None = (full, sorted(module.import_libraries.items()))  # tier_up
+            return CompiledCode(*full, quick=True)
+        code = CompiledCode(*full)
+        self._put_recipe(code, sorted(module.import_libraries.items()))
+        return code
+
+    def _put_recipe(self, code: CompiledCode, libraries: list) -> None:
         if self.recipe:
             cache.recipe_put(self.recipe, {"ir_key": code.key, "cycles": self.cycles_per_element,
-                                           "imports": sorted(module.import_libraries.items()),
-                                           "messages": self.messages,
+                                           "imports": libraries, "messages": self.messages,
                                            "routines": [dataclasses.astuple(c) for c in self.routines]},
-                             build.cache)
-        return code
+                             self.build.cache)
+
+    def tier_up(self, loops, index: int) -> None:
+        """Compile this kernel's IR fully, cache it, and make ``loops[index]`` (its ufunc's loop
+        table) point to it; its quick code is kept (a call may still be running it)."""
+        assert self.full_compile is not None
+        full, libraries = self.full_compile
+        code = CompiledCode(*full)
+        self._put_recipe(code, libraries)
+        self.quick_code, self.code = self.code, code
+        self._loop = code.address(full[3][1])
+        loops[index] = self._loop
+        self.full_compile = None
 
     def __repr__(self):
         return f"<reactor.Kernel {self.name} {self.build.describe()}>"
@@ -236,8 +255,10 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
                        + [ctypes.addressof(t[2]) for t in after],
                        signature=kernels[0].gufunc_signature)
     ref._id = id(ufunc)
-    for k in kernels:
+    for at, k in enumerate(kernels):
         k.ufunc_ref = ref
+        if getattr(k, "full_compile", None) is not None:
+            tiers.submit(functools.partial(k.tier_up, loop_table(ufunc), len(traps) + at))
     with _registry_lock:
         _registry[id(ufunc)] = weakref.ref(group)
         _memo[key] = weakref.ref(group)
