@@ -94,12 +94,26 @@ class Signature:
         return None if self.ret_kind is None else KINDS[self.ret_kind][0]
 
 
+POOL = Struct("pool", [
+    # the workers' side: a new job's generation (a futex word: its low 32 bits, both targets being
+    # little-endian), and how many workers sleep on it (the caller wakes them only then)
+    ("gen", "i64"), ("sleepers", "i64"),
+    # the current job: participations still open (``seats``), taken or open and not finished
+    # (``remaining``: the caller sleeps on its low 32 bits when ``waiting``), and its TASK
+    ("seats", "i64"), ("remaining", "i64"), ("waiting", "i64"), ("task", "ptr"),
+    # ownership: 1 while a split call uses the pool; workers started, by this process (pid); 1 once
+    # stopped (at exit); the workers' pthread ids; how long an idle thread spins before sleeping
+    ("busy", "i64"), ("workers", "i64"), ("pid", "i64"), ("quit", "i64"), ("tids", "i64*"),
+    ("spin_ns", "i64"),
+], "The persistent worker threads of the thread split (one per process; ``reactor.kernels.parallel``).")
+
 SETTINGS = Struct("settings", [
     ("threads", "i64"), ("threshold", "i64"), ("min_work", "i64"),
     ("parallel_for", "ptr"), ("prepare", "ptr"),
     # how a kernel's loop raises a Python error (a loop out of iterations)
     ("gil_ensure", "ptr"), ("err_set", "ptr"), ("gil_release", "ptr"), ("runtime_error", "ptr"),
     ("move", "ptr"),  # reactor_move: a kernel's elements in and out of its vector body
+    ("pool", POOL),  # the worker threads reactor_parallel_for wakes (NULL: every call runs serially)
 ], "What every dispatcher reads at each call (one per process).")
 
 LOOP_CONFIG = Struct("config", [
@@ -112,8 +126,9 @@ ERROR_LOOP = Struct("error_loop", [("settings", SETTINGS), ("message", "str"), (
 
 TASK = Struct("task", [
     ("loop", "ptr"), ("args", "ptr[]"), ("steps", "i64*"), ("data", "ptr"), ("nargs", "i64"), ("n", "i64"),
-    ("chunk", "i64"), ("next", "i64"), ("dims", "i64*"), ("ndims", "i64"),
-], "One split call, shared by its threads: they take chunks from ``next``.")
+    ("chunk", "i64"), ("next", "i64"), ("dims", "i64*"), ("ndims", "i64"), ("parts", "i64"),
+    ("fpcr", "i64"),  # the caller's floating-point controls (MXCSR, FPCR), which the workers take on
+], "One split call, shared by its threads (``parts`` of them): they take chunks by their index, ``next``.")
 
 #: void loop(char **args, int64_t *dims, int64_t *steps, void *data): NumPy's inner loop
 LOOP = Signature("loop", None, [("args", "ptr[]"), ("dims", "i64*"), ("steps", "i64*"), ("data", "ptr")])
@@ -121,6 +136,8 @@ LOOP = Signature("loop", None, [("args", "ptr[]"), ("dims", "i64*"), ("steps", "
 PARALLEL_FOR = Signature("reactor_parallel_for", None,
                          [("loop", "ptr")] + list(LOOP.parameters) + [("nargs", "i64"), ("threads", "i64"),
                                                                   ("ndims", "i64")])
+#: void reactor_pool_stop(pool): the workers told to leave and joined (at exit); later calls run serially
+POOL_STOP = Signature("reactor_pool_stop", None, [("pool", "ptr")])
 #: i64 reactor_prepare(args, dims, steps, nin, nargs, sizes, width, srcs, incs, splats, lane_bytes)
 PREPARE = Signature("reactor_prepare", "i64", [
     ("args", "ptr[]"), ("dims", "i64*"), ("steps", "i64*"), ("nin", "i64"), ("nargs", "i64"), ("sizes", "i64*"),
