@@ -108,3 +108,14 @@ def run_ops(kind: str, width: int, ops, inputs, out_kind: str | None = None, **o
     out = np.zeros((len(ops), n), dtype)
     fn(*[np.ascontiguousarray(x) for x in inputs], out.reshape(-1), n // width)
     return out
+
+
+def serial(fn, *args, **kw):
+    """``fn(*args, **kw)`` with reactor's calls on one thread (the settings restored after)."""
+    import reactor
+    saved = reactor.thread_settings()
+    reactor.configure_threads(threads=1)
+    try:
+        return fn(*args, **kw)
+    finally:
+        reactor.configure_threads(**saved._asdict())

@@ -6,6 +6,7 @@ import reactor
 
 import routines
 from reactor import Float, MulAdd, kernel
+from dsl_helpers import serial
 
 
 @pytest.fixture
@@ -21,22 +22,13 @@ def fused(x: Float, y: Float) -> (Float, Float):
     return MulAdd(x, y, 1.0), x - y
 
 
-def _serial(fn, *args, **kw):
-    saved = reactor.thread_settings()
-    reactor.configure_threads(threads=1)
-    try:
-        return fn(*args, **kw)
-    finally:
-        reactor.configure_threads(**saved._asdict())
-
-
 @pytest.mark.parametrize("n", [100, 101, 1000, 4097, 100_003])
-def test_parallel_matches_serial(two_threads_low_threshold, n):
+def test_parallel_matchesserial(two_threads_low_threshold, n):
     rng = np.random.default_rng(n)
     x, y = rng.normal(size=(2, n)).astype(np.float32)
     for args in [(x, y), (x[::-1], y), (x, np.float32(3.0)), (np.float32(2.0), y)]:
         got = fused(*args)
-        want = _serial(fused, *args)
+        want = serial(fused, *args)
         for g, w in zip(got, want):
             assert np.array_equal(g, w)
 
@@ -46,11 +38,11 @@ def test_parallel_with_strides_out_and_where(two_threads_low_threshold):
     exp2 = routines.jit("exp2")
     out = np.full(x[::3].size, -1.0, np.float32)
     exp2(x[::3], out=out)
-    assert np.array_equal(out, _serial(exp2, x[::3]))
+    assert np.array_equal(out, serial(exp2, x[::3]))
     mask = x > 0
     dest = np.zeros_like(x)
     exp2(x, out=dest, where=mask)
-    assert np.array_equal(dest[mask], _serial(exp2, x[mask])) and (dest[~mask] == 0).all()
+    assert np.array_equal(dest[mask], serial(exp2, x[mask])) and (dest[~mask] == 0).all()
 
 
 def test_configure_validates_and_reports():

@@ -16,6 +16,7 @@ import reactor
 import routines
 from reactor import Float, MulAdd, kernel
 from reactor.kernels import parallel
+from dsl_helpers import serial
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -35,15 +36,6 @@ def split_everything():
     parallel.set_spin(spin)
 
 
-def _serial(fn, *args, **kw):
-    saved = reactor.thread_settings()
-    reactor.configure_threads(threads=1)
-    try:
-        return fn(*args, **kw)
-    finally:
-        reactor.configure_threads(**saved._asdict())
-
-
 def _operands(n, seed=0):
     rng = np.random.default_rng(seed)
     return rng.normal(size=n).astype(np.float32), rng.normal(size=n).astype(np.float32)
@@ -52,7 +44,7 @@ def _operands(n, seed=0):
 @pytest.mark.parametrize("n", [1, 63, 64, 65, 255, 256, 257, 1000, 4095, 4096, 4097, 8195, 100_003, 2 ** 20 + 7])
 def test_every_element_written_once_with_the_serial_bits(split_everything, n):
     x, y = _operands(n, n)
-    want = _serial(pool_fused, x, y)
+    want = serial(pool_fused, x, y)
     got = (np.full(n, np.nan, np.float32), np.full(n, np.nan, np.float32))
     pool_fused(x, y, out=got)
     for g, w in zip(got, want):
@@ -62,7 +54,7 @@ def test_every_element_written_once_with_the_serial_bits(split_everything, n):
 def test_broadcast_operands_split_in_numpys_buffers(split_everything):
     row, col = _operands(1024, 7)
     got = pool_fused(row[None, :], col[:, None])
-    want = _serial(pool_fused, row[None, :], col[:, None])
+    want = serial(pool_fused, row[None, :], col[:, None])
     assert all(np.array_equal(g, w) for g, w in zip(got, want))
 
 
@@ -70,7 +62,7 @@ def test_broadcast_operands_split_in_numpys_buffers(split_everything):
 def test_many_small_and_large_calls_in_a_row(split_everything, spin):
     parallel.set_spin(spin)  # 0: every worker sleeps on the futex between calls
     cases = [_operands(n, n) for n in (4096, 300, 70_001, 1, 9000)]
-    wants = [_serial(pool_fused, x, y) for x, y in cases]
+    wants = [serial(pool_fused, x, y) for x, y in cases]
     for i in range(600):
         (x, y), want = cases[i % len(cases)], wants[i % len(cases)]
         got = pool_fused(x, y)
@@ -80,9 +72,9 @@ def test_many_small_and_large_calls_in_a_row(split_everything, spin):
 
 def test_calls_from_several_python_threads_at_once(split_everything):
     cases = [_operands(n, n) for n in (5000, 33_333, 200_000, 4096)]
-    wants = [_serial(pool_fused, x, y) for x, y in cases]
+    wants = [serial(pool_fused, x, y) for x, y in cases]
     exp2 = routines.jit("exp2")
-    wants_exp2 = [_serial(exp2, x) for x, _ in cases]
+    wants_exp2 = [serial(exp2, x) for x, _ in cases]
     errors = []
 
     def caller(k):
@@ -108,7 +100,7 @@ def test_calls_from_several_python_threads_at_once(split_everything):
 
 def test_configure_grows_the_pool_and_idles_the_rest(split_everything):
     x, y = _operands(50_000, 3)
-    want = _serial(pool_fused, x, y)
+    want = serial(pool_fused, x, y)
     before = parallel.pool_state().workers  # other tests may have asked for more threads
     for threads in (4, 2, 1, 3, 4):
         reactor.configure_threads(threads=threads)
@@ -140,7 +132,7 @@ def test_a_forked_child_starts_its_own_workers(split_everything):
     x, y = _operands(100_000, 11)
     pool_fused(x, y)  # the parent's workers exist, and sleep or spin
     assert parallel.pool_state().workers >= 1
-    want = _serial(pool_fused, x, y)
+    want = serial(pool_fused, x, y)
     with multiprocessing.get_context("fork").Pool(2, maxtasksperchild=1) as processes:
         results = processes.map(_child_work, [100_000] * 4)
     for inherited, after, pid, got in results:
@@ -294,9 +286,9 @@ def test_accumulate_reduce_and_in_place_calls_keep_the_serial_bits(split_everyth
     serially; an output written over its input (``out=x``) still splits."""
     step = kernel(lambda a, b: a * 0.5 + b * 1.0001, args=[Float, Float], returns=Float, name="pool_acc_probe")
     x = np.random.default_rng(n).uniform(0, 1, n).astype(np.float32)
-    assert np.array_equal(step.accumulate(x), _serial(step.accumulate, x))
-    assert step.reduce(x) == _serial(step.reduce, x)
-    assert np.array_equal(step.reduce(x.reshape(50, -1), axis=1), _serial(step.reduce, x.reshape(50, -1), axis=1))
-    y, want = x.copy(), _serial(step, x, x[::-1])
+    assert np.array_equal(step.accumulate(x), serial(step.accumulate, x))
+    assert step.reduce(x) == serial(step.reduce, x)
+    assert np.array_equal(step.reduce(x.reshape(50, -1), axis=1), serial(step.reduce, x.reshape(50, -1), axis=1))
+    y, want = x.copy(), serial(step, x, x[::-1])
     step(y, x[::-1], out=y)
     assert np.array_equal(y, want)
