@@ -108,3 +108,32 @@ def test_two_groups_each_once_or_per_element(a, b):
 def test_a_one_input_kernel_is_left_alone():
     split, _ = both(lambda x: gl.cos(x) * 2.0, args=[Float], returns=Float)
     assert ".pre0" not in reactor.kernel_of(split).ir
+
+
+def _random_body(rng, depth):
+    """A random expression of x, t, u: routines, selects and arithmetic (a seeded generator)."""
+    leaves = ["x", "t", "u", "1.5", "0.25"]
+    unary = ["gl.sin({})", "gl.exp2({})", "gl.log2(gl.abs({}) + 1.0)", "gl.sqrt(gl.abs({}))", "gl.cos({} * 0.3)",
+             "gl.floor({})", "gl.normalize(reactor.vec2({}, 1.0)).x"]
+    binary = ["({} + {})", "({} * {})", "gl.max({}, {})", "gl.pow(gl.abs({}) + 0.5, {} * 0.1)",
+              "Select({} > x, {}, {})"]
+    if depth == 0 or rng.random() < 0.2:
+        return rng.choice(leaves)
+    form = rng.choice(unary if rng.random() < 0.5 else binary)
+    return form.format(*[_random_body(rng, depth - 1) for _ in range(form.count("{}"))])
+
+
+def test_random_bodies_give_the_same_bits_for_every_broadcast_pattern():
+    import random
+    from reactor import Select
+    rng, split_off = random.Random(11), 0
+    arr = np.random.default_rng(1).uniform(-5, 5, X.size).astype(np.float32)
+    for n in range(24):
+        namespace = {"Float": Float, "gl": gl, "Select": Select, "reactor": reactor}
+        exec(f"def body{n}(x: Float, t: Float, u: Float) -> Float:\n    return {_random_body(rng, 4)}\n", namespace)
+        split, whole = both(namespace[f"body{n}"])
+        split_off += ".pre0" in reactor.kernel_of(split).ir
+        for t, u in [(np.float32(0.7), np.float32(-2.5)), (arr, np.float32(3.0)), (np.float32(1.25), arr),
+                     (arr, arr[::-1].copy())]:
+            assert np.array_equal(split(X, t, u), whole(X, t, u), equal_nan=True), namespace[f"body{n}"]
+    assert split_off >= 6  # the generator makes bodies with uniform work
