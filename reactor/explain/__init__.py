@@ -14,7 +14,7 @@ user's own code, or a routine such as ``exp2`` emitted there), compiled with the
 same settings (or those given), and read back from the optimized IR and the
 assembly (``reactor.explain.listing``). A kernel shows its vector loop: the body
 as it runs, W elements at a time; ``plumbing=True`` adds the rest (the loop
-control, the width-1 tail body, the ufunc's dispatcher). The dataflow cost model
+control, the width-1 tail body). The dataflow cost model
 (``reactor.cost``) gives each line its operations by pipe, its share of the
 throughput bound and whether it is on the critical path.
 

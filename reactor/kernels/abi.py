@@ -116,10 +116,16 @@ SETTINGS = Struct("settings", [
     ("pool", POOL),  # the worker threads reactor_parallel_for wakes (NULL: every call runs serially)
 ], "What every dispatcher reads at each call (one per process).")
 
+CODE = Struct("code", [
+    ("loop", "ptr"),  # the kernel's loop over elements (``<name>.loop``)
+    ("status", "ptr"),  # its module's int32 status (a loop out of iterations: message number), or NULL
+], "A kernel's machine code, as one pointer: a tiered kernel's optimized code replaces it whole.")
+
 LOOP_CONFIG = Struct("config", [
     ("settings", SETTINGS), ("nargs", "i64"), ("cycles_per_element", "i64"), ("messages", "str[]"),
     ("ndims", "i64"),  # entries of NumPy's dims: 1 + a gufunc's core dimensions
-], "What a kernel's dispatcher reads through NumPy's per-loop ``data`` pointer.")
+    ("code", CODE),
+], "What the dispatcher (``reactor_dispatch``) reads through NumPy's per-loop ``data`` pointer.")
 
 ERROR_LOOP = Struct("error_loop", [("settings", SETTINGS), ("message", "str"), ("exception", "ptr")],
                     "The ``data`` of a loop that only raises (``reactor_raise``).")
@@ -132,6 +138,8 @@ TASK = Struct("task", [
 
 #: void loop(char **args, int64_t *dims, int64_t *steps, void *data): NumPy's inner loop
 LOOP = Signature("loop", None, [("args", "ptr[]"), ("dims", "i64*"), ("steps", "i64*"), ("data", "ptr")])
+#: void reactor_dispatch(args, dims, steps, data): every kernel's ufunc loop (its code from ``data``)
+DISPATCH = Signature("reactor_dispatch", None, list(LOOP.parameters))
 #: void reactor_parallel_for(loop, args, dims, steps, data, nargs, threads, ndims)
 PARALLEL_FOR = Signature("reactor_parallel_for", None,
                          [("loop", "ptr")] + list(LOOP.parameters) + [("nargs", "i64"), ("threads", "i64"),

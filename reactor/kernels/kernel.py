@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
-import functools
 import gc
 import threading
 import typing
@@ -54,12 +53,12 @@ from ..dsl.intrinsics import precision
 from ..jit import cache
 from ..jit.compiler import CompiledCode, ShowsCode, cached_object
 from ..dsl.calls import RoutineCall, calls_of
-from ..dsl.limits import messages_of
+from ..dsl.limits import STATUS, messages_of
 from .recipe import recipe_watch, unchanged
 from . import loop, parallel, tiers
-from .loop import LoopEmitter, emit_body, emit_dispatcher, estimated_cycles
+from .loop import LoopEmitter, emit_body, estimated_cycles
 from .operands import core_layout, gufunc_signature, operand_of
-from .ufunc_api import loop_table, make_ufunc
+from .ufunc_api import make_ufunc
 
 _registry: "dict[int, weakref.ref[Kernels]]" = {}
 _registry_lock = threading.Lock()
@@ -87,20 +86,27 @@ class Kernel(ShowsCode):
         self.ins, self.outs = ins, outs
         self.in_kinds, self.out_kinds = [o.kind for o in ins], [o.kind for o in outs]
         self.gufunc_signature = gufunc_signature(ins, outs)
-        loop_name, entry_name = f"{name}.loop", f"{name}.ufunc"
-        exports = (loop_name, entry_name)
-        self.code = self._from_recipe(body, signature, exports) or self._traced(body, exports, signature)
+        self.code = self._from_recipe(body, signature) or self._traced(body, signature)
         if build.target.runnable:
-            self._loop = self.code.address(entry_name)
+            self._loop = parallel.dispatcher()  # every kernel's ufunc loop: its code comes with the config
             self.config = parallel.make_config(len(ins) + len(outs), self.cycles_per_element, self.messages,
-                                               core_layout(ins, outs)[2])
+                                               core_layout(ins, outs)[2], *self._code_addresses(self.code))
         else:  # built to be read (assembly, IR): its ufunc raises instead of running foreign instructions
             self._loop, self.config = parallel.error_loop(self.code.unrunnable_reason(), ReactorError)
         self._signature = [[k.dtype for k in ins + outs]]
         self.types = "".join(k.dtype.char for k in ins) + "->" + "".join(k.dtype.char for k in outs)
 
+    def _exports(self) -> tuple[str, ...]:
+        """The symbols the dispatcher needs from this kernel's code: its loop, and its status when
+        a loop of its body is limited (``messages``)."""
+        return (f"{self.name}.loop",) + ((STATUS,) if self.messages else ())
+
+    def _code_addresses(self, code: CompiledCode) -> tuple[int, int]:
+        """(loop, status) of ``code`` for ``parallel.make_config``/``set_code`` (status 0: none)."""
+        return code.address(f"{self.name}.loop"), code.address(STATUS) if self.messages else 0
+
     def _module(self, body, lines: bool = False) -> tuple[_em.ModuleEmitter, float]:
-        """Trace ``body`` into its module: the bodies, the loop and the dispatcher (with the
+        """Trace ``body`` into its module: the bodies and the loop (with the
         user's source line on every instruction if ``lines``)."""
         body = as_written(body, self.build.cache)  # Python's if/while/for on DSL values run at run time
         build, name, ins, outs = self.build, self.name, self.ins, self.outs
@@ -116,8 +122,7 @@ class Kernel(ShowsCode):
             # operands, which may differ per element, always take the width-1 body.
             needs_scalar = vector is None or any(o.uniform for o in ins) or size < ONE_BODY_MIN
             scalar = emit_body(module, name, body, ins, outs, 1)[0] if needs_scalar else None
-            serial = LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width, hoisted).emit()
-            emit_dispatcher(module, f"{name}.ufunc", serial)
+            LoopEmitter(module, f"{name}.loop", vector, scalar, ins, outs, build.width, hoisted).emit()
             module.text  # noqa: B018 - serialized here, once, still without collections
         finally:
             if collecting:
@@ -139,7 +144,7 @@ class Kernel(ShowsCode):
         a body without a recipe key is traced again)."""
         return self.recipe is not None and unchanged(self.watch)
 
-    def _from_recipe(self, body, signature, exports) -> CompiledCode | None:
+    def _from_recipe(self, body, signature) -> CompiledCode | None:
         """The code a body with this recipe compiled to before, without tracing it (None: trace)."""
         build = self.build
         self.recipe = self._recipe(body, signature)
@@ -157,17 +162,17 @@ class Kernel(ShowsCode):
             return None
         self.cycles_per_element, self.messages = found["cycles"], found["messages"]
         self.routines = [RoutineCall(*call) for call in found.get("routines", [])]
-        code = CompiledCode(None, build.target, build.opt, exports, build.cache, imports, key=found["ir_key"],
+        code = CompiledCode(None, build.target, build.opt, self._exports(), build.cache, imports, key=found["ir_key"],
                             obj=obj, source=source, ir_source=lambda: self._module(body)[0].text)
         code.source = f"recipe, {source}" if code.source != "compiled" else code.source
         return code
 
-    def _traced(self, body, exports, signature) -> CompiledCode:
+    def _traced(self, body, signature) -> CompiledCode:
         build = self.build
         module, self.cycles_per_element = self._module(body)
         self.messages = messages_of(module)
         self.routines = calls_of(module)
-        full = (module.text, build.target, build.opt, exports, build.cache, module.imports)
+        full = (module.text, build.target, build.opt, self._exports(), build.cache, module.imports)
         if tiers.enabled() and build.target.runnable:
             self.full_compile: tuple | None = (full, sorted(module.import_libraries.items()))  # tier_up
             return CompiledCode(*full, quick=True)
@@ -182,16 +187,15 @@ class Kernel(ShowsCode):
                                            "routines": [dataclasses.astuple(c) for c in self.routines]},
                              self.build.cache)
 
-    def tier_up(self, loops, index: int) -> None:
-        """Compile this kernel's IR fully, cache it, and make ``loops[index]`` (its ufunc's loop
-        table) point to it; its quick code is kept (a call may still be running it)."""
+    def tier_up(self) -> None:
+        """Compile this kernel's IR fully, cache it, and make its dispatcher run it from the next
+        call on; its quick code is kept (a call may still be running it)."""
         assert self.full_compile is not None
         full, libraries = self.full_compile
         code = CompiledCode(*full)
         self._put_recipe(code, libraries)
         self.quick_code, self.code = self.code, code
-        self._loop = code.address(full[3][1])
-        loops[index] = self._loop
+        parallel.set_code(self.config, *self._code_addresses(code))
         self.full_compile = None
 
     def __repr__(self):
@@ -255,10 +259,10 @@ def build_kernel(body, *, name: str | None = None, args=None, returns=..., signa
                        + [ctypes.addressof(t[2]) for t in after],
                        signature=kernels[0].gufunc_signature)
     ref._id = id(ufunc)
-    for at, k in enumerate(kernels):
+    for k in kernels:
         k.ufunc_ref = ref
         if getattr(k, "full_compile", None) is not None:
-            tiers.submit(functools.partial(k.tier_up, loop_table(ufunc), len(traps) + at))
+            tiers.submit(k.tier_up)
     with _registry_lock:
         _registry[id(ufunc)] = weakref.ref(group)
         _memo[key] = weakref.ref(group)

@@ -43,7 +43,6 @@ from ..ir import emitter as _em
 from ..ir import fpenv, hoist, ops
 from ..ir import types as T
 from ..ir.types import INDEX, KINDS, VType
-from ..dsl.limits import STATUS, messages_of
 from . import abi
 
 BOOL = KINDS["Bool"]
@@ -553,59 +552,3 @@ def estimated_cycles(instructions: int, width: int) -> float:
     two vector instructions per cycle, plus the loop's own. It only decides whether a call
     is worth splitting across threads."""
     return instructions / width / 2 + 0.25
-
-
-def _raise_runaway(em, data) -> None:
-    """If a loop of the body ran out of iterations, set Python's error (GIL taken): NumPy
-    reports it when the call returns. Emitted in the dispatcher, on the caller's thread, after
-    every chunk of a split call has finished (an error set on a worker thread would be lost)."""
-    i32 = VType(KINDS["Int"], 1)
-    old = em.atomic_swap(em.module.counter(STATUS), T.const(i32, 0), name="runaway")
-    report, done = em.new_block("runaway"), em.new_block("return")
-    em.cbranch(ops.compare(em, i32, "ne", old, T.const(i32, 0)), report, done)
-    em.goto(report)
-    cfg = abi.LOOP_CONFIG.of(em, data)
-    settings, messages = abi.LOOP_CONFIG.load(em, cfg, "settings", "messages")
-    which = ops.convert(em, i32, INDEX, ops.binary(em, "sub", i32, old, T.const(i32, 1)))
-    message = em.load(em.address(messages, which), name="message")
-    abi.raise_python_error(em, settings, abi.SETTINGS.load(em, settings, "runtime_error"), message)
-    em.branch(done)
-    em.goto(done)
-
-
-def emit_dispatcher(module, name: str, serial) -> object:
-    """``<name>.ufunc``: the loop NumPy calls. ``data`` points to the kernel's
-    ``abi.LOOP_CONFIG``; a call worth splitting (see ``parallel``) goes to the
-    native ``reactor_parallel_for``, every other one straight to ``serial``."""
-    em = _em.FunctionEmitter(module, name, None, abi.LOOP.params, abi.LOOP.names)
-    with em:
-        args, dims, steps, data = em.params
-        cfg = abi.LOOP_CONFIG.of(em, data)
-        settings, nargs, cycles, ndims = abi.LOOP_CONFIG.load(em, cfg, "settings", "nargs", "cycles_per_element",
-                                                              "ndims")
-        threads, threshold, min_work = abi.SETTINGS.load(em, settings, "threads", "threshold", "min_work")
-        n = em.load(dims, name="n")
-        work = ops.binary(em, "mul", INDEX, n, cycles)
-        budget = ops.binary(em, "mul", INDEX, min_work, _idx(abi.CYCLES_SCALE))
-        split = []
-        for cond in (("gt", threads, _idx(1)), ("ge", n, threshold), ("ge", work, budget)):
-            split.append(ops.compare(em, INDEX, *cond))
-        bool1 = VType(BOOL, 1)
-        worth = ops.binary(em, "and", bool1, ops.binary(em, "and", bool1, split[0], split[1]), split[2])
-        parallel, serial_block = em.new_block("parallel"), em.new_block("serial")
-        em.cbranch(worth, parallel, serial_block)
-        em.goto(parallel)
-        parallel_for = abi.SETTINGS.load(em, settings, "parallel_for")
-        em.call_pointer(parallel_for, None, abi.PARALLEL_FOR.params,
-                        [em.function_address(serial, name="serial"), args, dims, steps, data, nargs, threads, ndims])
-        done = em.new_block("done")
-        em.branch(done)
-        em.goto(serial_block)
-        em.call(serial, [args, dims, steps, data])
-        em.branch(done)
-        em.goto(done)
-        if messages_of(module):
-            _raise_runaway(em, data)
-        em.ret(None)
-        em.finish()
-    return em.function

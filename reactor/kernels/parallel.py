@@ -1,8 +1,11 @@
 """Multi-core kernels: large calls split across threads in native code, no Python inside.
 
-Every kernel's ufunc loop is a small dispatcher (``<name>.ufunc``). NumPy passes
-it the ``data`` pointer registered with the loop, which points to the kernel's
-``LoopConfig``: its operand count, the estimated cost of one element
+Every kernel's ufunc loop is the runtime's one dispatcher (``reactor_dispatch``: a
+kernel compiles only its own loop, ``<name>.loop``, which saves a fifth of a small
+kernel's code generation). NumPy passes it the ``data`` pointer registered with the
+loop, which points to the kernel's ``LoopConfig``: its code (the loop, and the
+status its limited loops leave; one pointer, which a tiered kernel's optimized code
+replaces whole), its operand count, the estimated cost of one element
 (``cycles_per_element``, from the size of its vector body) and the
 process-wide ``Settings``. A call is split when there is more than one thread,
 at least ``threshold`` elements and an estimated ``n * cycles_per_element`` of
@@ -96,6 +99,7 @@ DEFAULT_MIN_WORK = 16_000
 #: vCPU can take that long) is awake for the next (benchmarks/bench_parallel.py).
 DEFAULT_SPIN_NS = 100_000
 SettingsStruct, LoopConfig, ErrorLoop = abi.SETTINGS.ctype, abi.LOOP_CONFIG.ctype, abi.ERROR_LOOP.ctype
+CodeBlock = abi.CODE.ctype
 PoolStruct = abi.POOL.ctype
 
 
@@ -209,10 +213,12 @@ def settings() -> Settings:
     return Settings(_settings.threads, _settings.threshold, _settings.min_work)
 
 
-def make_config(nargs: int, cycles_per_element: float, messages=(), ndims: int = 1) -> ctypes.Structure:
+def make_config(nargs: int, cycles_per_element: float, messages=(), ndims: int = 1, loop: int = 0,
+                status: int = 0) -> ctypes.Structure:
     """The ``data`` block for one kernel loop (keep it alive as long as the ufunc): ``messages``
     are the errors of its loops that run out of iterations; ``ndims`` the entries of NumPy's
-    ``dims`` its loop reads (1 + a gufunc's distinct core dimensions)."""
+    ``dims`` its loop reads (1 + a gufunc's distinct core dimensions); ``loop`` its code's
+    ``<name>.loop`` and ``status`` its module's status counter (0: none), as ``set_code``."""
     if ndims > MAX_DIMS:
         raise ValueError(f"a kernel may have at most {MAX_DIMS - 1} core dimensions, not {ndims - 1}")
     _runtime_addresses()
@@ -220,8 +226,23 @@ def make_config(nargs: int, cycles_per_element: float, messages=(), ndims: int =
     table = (ctypes.c_char_p * max(1, len(messages)))(*[m.encode() for m in messages])
     config = LoopConfig(settings=ctypes.pointer(_settings), nargs=nargs, cycles_per_element=cycles, messages=table,
                         ndims=ndims)
-    config._keep = table  # the strings live as long as the config
+    config._keep = [table]  # the strings (and every code block) live as long as the config
+    set_code(config, loop, status)
     return config
+
+
+def set_code(config: ctypes.Structure, loop: int, status: int) -> None:
+    """Make the dispatcher run ``loop`` (reporting through ``status``) for ``config``'s kernel from
+    its next call: one pointer written whole, the code blocks before it kept (a call still running
+    the code it read is never cut)."""
+    code = CodeBlock(loop=loop or None, status=status or None)
+    config._keep.append(code)
+    config.code = ctypes.pointer(code)
+
+
+def dispatcher() -> int:
+    """The address of ``reactor_dispatch``: every kernel's ufunc loop."""
+    return runtime().address(abi.DISPATCH.name)
 
 
 def _runtime_addresses() -> None:
@@ -233,7 +254,8 @@ def _runtime_addresses() -> None:
 
 # -- the native runtime ------------------------------------------------------------------------
 
-RUNTIME_EXPORTS = (abi.PARALLEL_FOR.name, abi.PREPARE.name, abi.RAISE.name, abi.MOVE.name, abi.POOL_STOP.name)
+RUNTIME_EXPORTS = (abi.PARALLEL_FOR.name, abi.PREPARE.name, abi.RAISE.name, abi.MOVE.name, abi.POOL_STOP.name,
+                   abi.DISPATCH.name)
 
 
 @functools.cache
@@ -250,6 +272,7 @@ def runtime(target: str = "host") -> CompiledCode:
         _emit_prepare(module)
         _emit_raise(module)
         _emit_move(module)
+        _emit_dispatch(module)
         return module.text
     # its IR depends only on reactor's sources and the target: a fresh process loads it from the
     # disk cache under that recipe without building the IR (the first kernel's disk hit stays fast)
@@ -273,6 +296,46 @@ def _emit_raise(module) -> None:
         data = abi.ERROR_LOOP.of(em, em.params[3])
         settings, message, exc = abi.ERROR_LOOP.load(em, data, "settings", "message", "exception")
         abi.raise_python_error(em, settings, exc, message)
+        em.ret(None)
+        em.finish()
+
+
+def _emit_dispatch(module) -> None:
+    """``void reactor_dispatch(args, dims, steps, data)``: every kernel's ufunc loop. ``data`` is
+    the kernel's ``LoopConfig``; its ``code`` gives the kernel's loop, which a call worth
+    splitting (by work: see the module docstring) runs through ``reactor_parallel_for`` and any
+    other runs straight. After the call, if the kernel's status says a loop ran out of
+    iterations, it sets Python's error with that loop's message (on the caller's thread, after
+    every chunk: an error set on a worker thread would be lost)."""
+    em = _em.FunctionEmitter(module, abi.DISPATCH.name, None, abi.DISPATCH.params, abi.DISPATCH.names, width=1)
+    with em:
+        args, dims, steps, data = em.params
+        cfg = abi.LOOP_CONFIG.of(em, data)
+        settings, nargs, cycles, ndims, code = abi.LOOP_CONFIG.load(em, cfg, "settings", "nargs",
+                                                                    "cycles_per_element", "ndims", "code")
+        loop, status = abi.CODE.load(em, code, "loop", "status")  # read once: one code for the whole call
+        threads, threshold, min_work = abi.SETTINGS.load(em, settings, "threads", "threshold", "min_work")
+        n = em.load(dims, name="n")
+        work = ops.binary(em, "mul", INDEX, n, cycles)
+        budget = ops.binary(em, "mul", INDEX, min_work, _idx(abi.CYCLES_SCALE))
+        bool1 = VType(KINDS["Bool"], 1)
+        worth = T.const(bool1, 1)
+        for cond in (("gt", threads, _idx(1)), ("ge", n, threshold), ("ge", work, budget)):
+            worth = ops.binary(em, "and", bool1, worth, ops.compare(em, INDEX, *cond))
+        with em.if_else(worth, name="split") as (split, serial):
+            with split:
+                em.call_pointer(abi.SETTINGS.load(em, settings, "parallel_for"), None, abi.PARALLEL_FOR.params,
+                                [loop, args, dims, steps, data, nargs, threads, ndims])
+            with serial:
+                em.call_pointer(loop, None, abi.LOOP.params, [args, dims, steps, data])
+        null = ops.compare(em, INDEX, "eq", em.convert("ptrtoint", status, INDEX, name="status"), _idx(0))
+        with em.if_then(ops.binary(em, "xor", bool1, null, T.const(bool1, 1)), name="counted"):
+            old = em.atomic_swap(em.cast_pointer(status, _I32), T.const(_I32, 0), name="runaway")
+            with em.if_then(ops.compare(em, _I32, "ne", old, T.const(_I32, 0)), name="runaway"):
+                messages = abi.LOOP_CONFIG.load(em, cfg, "messages")
+                which = ops.convert(em, _I32, INDEX, ops.binary(em, "sub", _I32, old, T.const(_I32, 1)))
+                message = em.load(em.address(messages, which), name="message")
+                abi.raise_python_error(em, settings, abi.SETTINGS.load(em, settings, "runtime_error"), message)
         em.ret(None)
         em.finish()
 

@@ -2,7 +2,8 @@
 
 A kernel built with ``target="aarch64"`` is real AArch64 object code, but its ufunc
 refuses to run in an x86 process. ``Emulator([ufunc, ...])`` links the object code
-of each kernel (the loop NumPy would call, ``<name>.ufunc``) with reactor's runtime
+of each kernel (its loop over elements, ``<name>.loop``, which the driver calls as the
+dispatcher would, on one thread) with reactor's runtime
 built for the same target (``reactor_prepare``) and a small C driver, using the
 cross toolchain (``aarch64-linux-gnu-gcc``); calling it runs the executable under
 ``qemu-aarch64`` and returns the outputs as NumPy arrays. It runs the very object
@@ -135,7 +136,7 @@ class Emulator:
         for i, kern in enumerate(self.kernels):
             # each kernel's own symbols made local, its entry renamed: kernels of one name may be linked together
             path = self._write(f"k{i}.o", kern.code.object)
-            _run([f"{TRIPLE_PREFIX}-objcopy", f"--redefine-sym={kern.name}.ufunc=reactor_kernel{i}",
+            _run([f"{TRIPLE_PREFIX}-objcopy", f"--redefine-sym={kern.name}.loop=reactor_kernel{i}",
                   f"--keep-global-symbol=reactor_kernel{i}", path], "objcopy", 60)
             objects.append(path)
         count = len(self.kernels)

@@ -98,11 +98,3 @@ def make_ufunc(name: str, doc: str, loops: list[int], signatures: list[list[np.d
     slot.value = id(keep)
     return ufunc
 
-
-def loop_table(ufunc: np.ufunc):
-    """The inner-loop table (a ctypes array of function pointers) of a ufunc ``make_ufunc`` made:
-    NumPy reads it at every call, so a slot written there takes effect on the next call."""
-    address = ctypes.c_void_p.from_address(id(ufunc) + _obj_offset()).value
-    if address is None:
-        raise ValueError(f"{ufunc!r} was not made by make_ufunc")
-    return ctypes.cast(address, ctypes.py_object).value[1]

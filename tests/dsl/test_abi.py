@@ -46,4 +46,4 @@ def test_the_c_declarations_have_the_ctypes_layout(tmp_path):
 def test_code_reaches_fields_by_name():
     with pytest.raises(ValueError):
         abi.SETTINGS.index("no_such_field")
-    assert abi.LOOP_CONFIG.index("ndims") == len(abi.LOOP_CONFIG.names) - 1
+    assert abi.LOOP_CONFIG.index("code") == len(abi.LOOP_CONFIG.names) - 1
