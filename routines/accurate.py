@@ -44,12 +44,14 @@ from . import doubled as dd
 from .constants import EXP2_SERIES_HIGH, EXP2_SERIES_LOW, LOG2_SERIES_HIGH, LOG2_SERIES_LOW
 from .base import DEFAULT_NAN_BITS, nan_rule, positive_normal
 from .polynomials import (
-    EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL, LOG2_FAITHFUL_F,
-    LOG2_POW, LOG_FAITHFUL_F,
+    EXP2_CORRECT, EXP2_FAITHFUL, EXP2_FAITHFUL_F, EXP2_POW_CORRECT, EXP_FAITHFUL_F, LOG2_CORRECT, LOG2_FAITHFUL,
+    LOG2_FAITHFUL_F, LOG2_POW, LOG2_POW_CORRECT, LOG_FAITHFUL_F,
 )
 
 #: The rounding test's relative window: above the float64 evaluation's error bound (2^-40).
 WINDOW = 2.0 ** -38
+#: The correct pow's window: above its float64 value's error bound (2^-43.4).
+POW_WINDOW = 2.0 ** -40
 
 # log2(e) = L1 + L2 + L3, L1 on 29 bits so that x * L1 is exact for a float32 x.
 LOG2E_1, LOG2E_2, LOG2E_3 = 1.442695040255785, 6.331784189566044e-10, -7.663673822123329e-27
@@ -334,23 +336,107 @@ def _whole(y):
 
 
 def pow(x, y, precision):  # noqa: A001
-    """x^y with C99 Annex F semantics (pow, not powr), faithful: y log2|x| is formed in float64
-    from a log2 with relative error ~2^-35 (LOG2_POW), so the exponent's error stays below 2^-28
-    absolute for every finite result (|y log2 x| < 150), and 2^t (EXP2_FAITHFUL, 2^-29) is
-    rounded once to float32 (subnormal results included)."""
+    """x^y with C99 Annex F semantics (pow, not powr); see ``_pow_faithful`` and ``_pow_correct``."""
     F, D, I, _ = _types(x.width)
     ax = reactor.Abs(x)
     subnormal = ax < 2.0 ** -126
     xs = Select(subnormal, ax * 2.0 ** 24, Select(positive_normal(ax), ax, 1.0))
     e, u = _decompose(xs)
-    lx = _log2_double(e - Select(subnormal, D(24.0), D(0.0)), u, LOG2_POW, precision)
-    t = D(y) * lx
-    t = Select(IsInf(t) | IsNan(t), D(0.0), t)                # zeros, infinities, NaNs: below
-    t = reactor.Min(reactor.Max(t, D(-200.0)), D(200.0))      # 2^t is 0 or inf beyond
-    k = Round(t)
-    core = F(_poly(EXP2_FAITHFUL, t - k, precision) * _pow2(k))  # one rounding, subnormals and overflow too
-    # The cases the formula above does not give: zeros, infinities, NaNs, and the sign.
+    e = e - Select(subnormal, D(24.0), D(0.0))              # |x| = 2^e (1 + u), both exact
     integer, odd = _whole(y)
+    if precision is Precision.CORRECT:
+        core = _pow_correct(ax, y, e, u, integer)
+    else:
+        core = _pow_faithful(y, e, u, precision)
+    return _pow_specials(x, y, ax, core, integer, odd)
+
+
+def _exponent(t):
+    """t with its infinities and NaNs at 0 (their results are selected later), within [-200, 200]
+    (2^t is 0 or inf beyond)."""
+    D = vector_type("Double", t.width)
+    t = Select(IsInf(t) | IsNan(t), D(0.0), t)
+    return reactor.Min(reactor.Max(t, D(-200.0)), D(200.0))
+
+
+def _pow_faithful(y, e, u, precision):
+    """|x|^y, faithful: y log2|x| is formed in float64 from a log2 with relative error ~2^-35
+    (LOG2_POW), so the exponent's error stays below 2^-28 absolute for every finite result
+    (|y log2 x| < 150), and 2^t (EXP2_FAITHFUL, 2^-29) is rounded once to float32 (subnormal
+    results included)."""
+    F = vector_type("Float", u.width)
+    t = _exponent(vector_type("Double", u.width)(y) * _log2_double(e, u, LOG2_POW, precision))
+    k = Round(t)
+    return F(_poly(EXP2_FAITHFUL, t - k, precision) * _pow2(k))  # one rounding, subnormals and overflow too
+
+
+def _pow_correct(ax, y, e, u, integer):
+    """|x|^y, correctly rounded.
+
+    The float64 path: l = log2(1 + u) = s Q(s^2) to ~2^-51.3 relative (LOG2_POW_CORRECT, 2^-56),
+    t = y e + y l (y e exact) within 2^-43.2 of y log2|x| for |t| <= 150 (|y l| <= 1.41 |t|
+    where e != 0), and 2^t = 2^(t - k) 2^k (EXP2_POW_CORRECT, 2^-46.1): the float64 value is
+    within 2^-43.4 relative. It is rounded from v(1 -+ 2^-40) (``POW_WINDOW``);
+    where the two differ (about one lane in 2^15.5), the lane is recomputed: as a double-double
+    (log2 to ~2^-80 by ``_log2_pair``, the product by y exactly, 2^t by ``_exp2_pair``) and
+    rounded exactly, except for the results that are exact, which a double-double cannot round
+    when they are a midpoint of two floats: x a power of two with y log2|x| whole (2^t exactly),
+    and y a whole number from 2 to 15 with |x|^y exact in float64 (checked product by product).
+    Every other result is irrational or has more than 53 bits, so it is no midpoint; it is
+    rounded correctly wherever it lies farther than the double-double's error (~2^-78) from one
+    (the stratified sweep and the hard pairs find no other: ``python -m routines ladder pow``)."""
+    F, D, I, _ = _types(u.width)
+    fused = dd.fused()
+    yd = D(y)
+    s = u / (u + 2.0)
+    t = _exponent(yd * e + yd * (s * LOG2_POW_CORRECT.evaluate(s * s, fused)))
+    k = Round(t)
+    v = EXP2_POW_CORRECT.evaluate(t - k, fused) * _pow2(k)
+    lo, hi = F(v * (1.0 - POW_WINDOW)), F(v * (1.0 + POW_WINDOW))
+    result = Variable(F, lo)
+    hard = lo < hi                                          # v >= 0; a NaN lane is not hard
+    with If(Any(hard)):
+        result.set(Select(hard, _pow_pair(ax, yd, e, u, integer), result))
+    return result.value
+
+
+def _pow_pair(ax, yd, e, u, integer):
+    """|x|^y correctly rounded, in double-double, with its exact cases (``_pow_correct``)."""
+    F, D, I, _ = _types(u.width)
+    t_hi, t_lo = dd.mul_double(_log2_pair(e, u), yd)
+    t_hi = _exponent(t_hi)
+    k = Round(t_hi)
+    r_hi, r_lo = dd.fast_two_sum(t_hi - k, t_lo)
+    rounded = dd.round_pair(*_exp2_pair(k, r_hi, r_lo))
+    te = yd * e                                             # exact
+    power_of_two = (u == 0.0) & (Round(te) == te) & (reactor.Abs(te) <= 250.0)
+    rounded = Select(power_of_two, F(_pow2(Select(power_of_two, te, D(0.0)))), rounded)
+    product, exact = _small_power(D(ax), Select(integer & (yd >= 2.0) & (yd <= 15.0), yd, D(2.0)))
+    whole = integer & (yd >= 2.0) & (yd <= 15.0) & exact
+    return Select(whole, F(product), rounded)
+
+
+def _small_power(xd, n):
+    """(xd^n, whether every product was exact) for whole n in [2, 15], by binary powering."""
+    _, D, _, _ = _types(xd.width)
+    acc, base = D(1.0), xd
+    exact = n == n
+    for bit in range(4):
+        use = (Trunc(n * 2.0 ** -bit) - Trunc(n * 2.0 ** -(bit + 1)) * 2.0) == 1.0
+        p, err = dd.two_prod(acc, base)
+        acc = Select(use, p, acc)
+        exact = exact & (~use | (err == 0.0))
+        if bit < 3:
+            needed = n >= 2.0 ** (bit + 1)
+            p, err = dd.two_prod(base, base)
+            base = p
+            exact = exact & (~needed | (err == 0.0))
+    return acc, exact
+
+
+def _pow_specials(x, y, ax, core, integer, odd):
+    """pow's results that its formula does not give: zeros, infinities, NaNs, and the sign."""
+    F, D, I, _ = _types(x.width)
     log_inf = (ax == 0.0) | (ax == float("inf")) | IsInf(y)
     toward_inf = Select(ax == 0.0, y < 0.0, Select(ax == float("inf"), y > 0.0, (ax > 1.0) == (y > 0.0)))
     edge = Select(toward_inf, F(float("inf")), F(0.0))

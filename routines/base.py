@@ -27,7 +27,7 @@ PRECISIONS = SHADER_TIERS
 LADDER = tuple(p.value for p in Precision)
 BEYOND_VULKAN = {
     "exp2": ("faithful", "correct"), "exp": ("faithful", "correct"), "log2": ("faithful", "correct"),
-    "log": ("faithful", "correct"), "pow": ("faithful",), "rcp": ("faithful", "correct"),
+    "log": ("faithful", "correct"), "pow": ("faithful", "correct"), "rcp": ("faithful", "correct"),
     "rsqrt": ("faithful", "correct"), "sqrt": ("faithful", "correct"),
 }
 

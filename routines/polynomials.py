@@ -358,7 +358,30 @@ LOG2_POW = DoublePolynomial(
                f"\"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 2.00e-11 (2^-35.5)",
     measured="see docs/accuracy-ladder.md (python -m routines ladder pow --exhaustive)")
 
-DOUBLE = (EXP2_FAITHFUL, EXP2_CORRECT, LOG2_FAITHFUL, LOG2_CORRECT, LOG2_POW)
+EXP2_POW_CORRECT = DoublePolynomial(
+    name="exp2.pow.correct", function="2^x", weight="2^x", interval=("-0.5", "0.5"),
+    coefficients=("0.000000101503367053096482115886137542", "0.00000132594056093451350036707402656",
+                  "0.0000152529848386534274803564943329", "0.00015403434948071790222902304849",
+                  "0.00133335576176044431687119896539", "0.00961812919206724613191174758044",
+                  "0.0555041086686856115549025181211", "0.240226506956496528745328578278",
+                  "0.693147180559870970863536363883", "1.00000000000001276211230111769"),
+    provenance="our Remez fitter: python -m routines remez -d 9 -r \"-0.5:0.5\" \"2^x\" \"2^x\" --json "
+               "--dps 60; levelled error 1.34e-14 (2^-46.1): the correct pow's 2^r, whose exponent t = y log2 x "
+               "is within 2^-43.2 (absolute) of its exact value, under the rounding test's window 2^-40",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder pow --exhaustive)")
+
+LOG2_POW_CORRECT = DoublePolynomial(
+    name="log2.pow.correct", function=_LOG2_Q, weight=_LOG2_Q, interval=("1e-60", "0.04"),
+    coefficients=("0.222010465880726045197641499663", "0.219969595110197499661163292002",
+                  "0.262376300510355862766371018989", "0.320597609589738053728202863909",
+                  "0.412198596308330419000885643029", "0.577078016289305451593149512613",
+                  "0.961796693926102296145885439838", "2.88539008177792677501195497675"),
+    provenance="our Remez fitter, as log2.faithful with degree 7, for the correct pow (y log2 x to 2^-43 "
+               "absolute for |y log2 x| up to 150 needs log2 to ~2^-51 relative): python -m routines remez -d 7 "
+               f"-r \"1e-60:0.04\" \"{_LOG2_Q}\" \"{_LOG2_Q}\" --json --dps 60; levelled error 1.38e-17 (2^-56.0)",
+    measured="see docs/accuracy-ladder.md (python -m routines ladder pow --exhaustive)")
+
+DOUBLE = (EXP2_FAITHFUL, EXP2_CORRECT, LOG2_FAITHFUL, LOG2_CORRECT, LOG2_POW, EXP2_POW_CORRECT, LOG2_POW_CORRECT)
 
 # The faithful tier's float32 path (FMA on): e^r = 1 + r + r^2 Q(r) on |r| <= ln2/2, and
 # 2^r = 1 + r ln2 + r^2 Q2(r) on |r| <= 1/2 with Q2(r) = ln2^2 Q(r ln2), the same fit rescaled

@@ -66,7 +66,7 @@ def pow(x, y, precision: Precision = Precision.FULL):  # noqa: A001 - the routin
     """x^y with powr semantics; x and y are Float values (a scalar broadcasts). A constant
     whole-number ``y`` in ``WHOLE_EXPONENTS`` (``pow(x, 5.0)``) is a chain of multiplications."""
     x = float_value(x, "pow", "x")
-    if precision is Precision.FAITHFUL:
+    if precision in (Precision.FAITHFUL, Precision.CORRECT):
         return accurate.pow(x, float_value(y, "pow", "y"), precision).named("pow")
     if isinstance(y, (int, float)) and not isinstance(y, bool) and float(y).is_integer() \
             and int(y) in WHOLE_EXPONENTS and int(y) != 0:

@@ -1,7 +1,7 @@
 """``python -m routines ladder``: the faithful and correct tiers, proved on the compiled code.
 
 Each variant (function x tier x FMA on/off) runs on float32 inputs against a correctly
-rounded reference (``routines.lab.rounding``): results not correctly rounded, max ULP-32,
+rounded reference, computed once per input for all the variants of a function (``routines.lab.rounding``): results not correctly rounded, max ULP-32,
 subnormal results. By default every 256th bit pattern (2^24 inputs, every binade and sign);
 ``--exhaustive``: all 2^32. pow (faithful) runs the stratified 2^30-pair sweep (every 16th
 stratum by default) plus its hard pairs. Exit status 1 if a correct variant misrounds any
@@ -15,7 +15,8 @@ import pathlib
 from . import add_quiet, choice_of
 from . import parser as command_parser
 
-FUNCS = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt", "pow")
+FUNCS = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt", "pow", "sin", "cos", "tan", "asin", "acos",
+         "atan", "sinh", "cosh", "tanh")
 
 
 def main(argv: list[str]) -> int:
@@ -38,21 +39,20 @@ def main(argv: list[str]) -> int:
     failed = False
     results = []
     for func in args.functions or FUNCS:
-        for precision in args.precisions:
-            if precision not in tiers(func):
-                continue
-            for fma in args.fma:
-                u = jit(func, precision, fma=fma == "on")
-                variant = f"{precision} fma {fma}"
-                step = 1 if args.exhaustive else (16 if func == "pow" else 256)
-                total = (2 ** 30 if func == "pow" else 2 ** 32) // step
-                with tqdm(total=total, unit="in", unit_scale=True, disable=None if not args.quiet else True,
-                          desc=f"{func} {variant}", leave=False) as bar:
-                    r = ladder.sweep(u, func, variant, step=step, progress=bar.update)
-                print(r.line(), flush=True)
-                bad = r.misrounded if precision == "correct" else int(r.max_ulp >= 1.0)
-                failed |= bool(bad)
-                results.append({**vars(r), "exhaustive": args.exhaustive, "step": step})
+        variants = {f"{precision} fma {fma}": jit(func, precision, fma=fma == "on")
+                    for precision in args.precisions if precision in tiers(func) for fma in args.fma}
+        if not variants:
+            continue
+        step = 1 if args.exhaustive else (16 if func == "pow" else 256)
+        total = (2 ** 30 if func == "pow" else 2 ** 32) // step
+        with tqdm(total=total, unit="in", unit_scale=True, disable=None if not args.quiet else True,
+                  desc=f"{func} ({len(variants)} variants)", leave=False) as bar:
+            swept = ladder.sweep_many(variants, func, step=step, progress=bar.update)
+        for variant, r in swept.items():
+            print(r.line(), flush=True)
+            bad = r.misrounded if variant.startswith("correct") else int(r.max_ulp >= 1.0)
+            failed |= bool(bad)
+            results.append({**vars(r), "exhaustive": args.exhaustive, "step": step})
     out = pathlib.Path(args.json)
     out.parent.mkdir(parents=True, exist_ok=True)
     old = json.loads(out.read_text()) if out.exists() else []

@@ -27,12 +27,15 @@ from reactor.cli import forked_pool
 from .measures import ulp32
 from .reference import reference
 
-UNARY = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt")
+UNARY = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt", "sin", "cos", "tan", "asin", "acos", "atan",
+         "sinh", "cosh", "tanh")
 NEAR = 2.0 ** -40
 BLOCK = 2 ** 18
 _MP = {"exp2": lambda v: mpmath.power(2, v), "exp": mpmath.exp, "log2": lambda v: mpmath.log(v, 2),
        "log": mpmath.log, "rcp": lambda v: 1 / v, "rsqrt": lambda v: 1 / mpmath.sqrt(v),
-       "sqrt": mpmath.sqrt, "pow": mpmath.power}
+       "sqrt": mpmath.sqrt, "pow": mpmath.power, "sin": mpmath.sin, "cos": mpmath.cos, "tan": mpmath.tan,
+       "asin": mpmath.asin, "acos": mpmath.acos, "atan": mpmath.atan, "atan2": mpmath.atan2,
+       "sinh": mpmath.sinh, "cosh": mpmath.cosh, "tanh": mpmath.tanh}
 _LOW29 = np.uint64((1 << 29) - 1)
 _MID_MINUS_NEAR = np.uint64((1 << 28) - (1 << 13))
 _NEAR2 = np.uint64(1 << 14)
@@ -50,35 +53,51 @@ def c99_reference(func: str, x: np.ndarray, y: np.ndarray | None = None) -> np.n
         with np.errstate(all="ignore"):
             out = np.log(x, dtype=np.float64)
             return np.multiply(out, 1.4426950408889634, out=out)
-    return reference(func, x)
+    return reference(func, x, y)
 
 
-def correctly_rounded(func: str, x: np.ndarray, ref: np.ndarray | None = None,
-                      y: np.ndarray | None = None) -> tuple[np.ndarray, int]:
-    """The correctly rounded float32 ``func(x)`` (``func(x, y)``) and how many lanes mpmath decided.
+def _near(ref: np.ndarray, near: float = NEAR) -> np.ndarray:
+    """Indices where the float64 ``ref`` lies within ``near`` (a power of two, at most 2^-40)
+    relative of a float32 rounding boundary: the midpoint of two floats (subnormal ones
+    included) or the overflow threshold 2^128 - 2^103.
 
-    Where the float32 result is normal (or overflows), the float64 reference's 29 bits below
-    float32's last one say how far it is from the midpoint (2^28): within 2^13 of it is within
-    2^-40 relative. Below 2^-126 the grid is 2^-149 whatever the binade."""
-    ref = c99_reference(func, x, y) if ref is None else ref
+    Where |ref| is normal in float32 (or overflows), its 29 bits below float32's last one say
+    how far it is from the midpoint (2^28): within 2^13 of it is within 2^-40 relative (a
+    tighter ``near``: measured exactly on those). Below 2^-126 the grid is 2^-149 whatever the
+    binade."""
     with np.errstate(all="ignore"):
-        r = ref.astype(np.float32)
         bits = ref.view(np.uint64)
         low = np.bitwise_and(bits - _MID_MINUS_NEAR, _LOW29)          # |low29 - 2^28| <= 2^13
         candidates = np.flatnonzero(np.less_equal(low, _NEAR2, out=np.empty(low.shape, bool)))
         a = np.abs(ref[candidates])
-        near = list(candidates[(a >= 2.0 ** -126) & (a < 2.0 ** 128)])
+        normal = candidates[(a >= 2.0 ** -126) & (a < 2.0 ** 128)]
+        if near < NEAR:
+            a = np.abs(ref[normal])
+            mid = (np.bitwise_and(a.view(np.uint64), ~_LOW29) | np.uint64(1 << 28)).view(np.float64)
+            normal = normal[np.abs(a - mid) <= near * a]
         magnitude = np.bitwise_and(bits, _NO_SIGN, out=low)
         tiny = np.flatnonzero((magnitude < _MIN_NORMAL64) & (magnitude > 0))
         if tiny.size:
             t = np.abs(ref[tiny]) * 2.0 ** 149
-            near += list(tiny[np.abs(t - np.floor(t) - 0.5) <= NEAR * np.maximum(t, 1.0)])
-    if near:
+            tiny = tiny[np.abs(t - np.floor(t) - 0.5) <= near * np.maximum(t, 1.0)]
+    return np.concatenate([normal, tiny])
+
+
+def correctly_rounded(func: str, x: np.ndarray, ref: np.ndarray | None = None,
+                      y: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+    """The correctly rounded float32 ``func(x)`` (``func(x, y)``) and how many lanes mpmath decided:
+    the float64 reference rounded, except within 2^-40 of a boundary (``_near``), where mpmath
+    decides at 50 digits."""
+    ref = c99_reference(func, x, y) if ref is None else ref
+    with np.errstate(all="ignore"):
+        r = ref.astype(np.float32)
+    near = _near(ref)
+    if near.size:
         exact = _MP[func]
         with mpmath.workdps(50):
             for i in near:
                 r[i] = _decide(exact, x[i] if y is None else (x[i], y[i]), float(ref[i]))
-    return r, len(near)
+    return r, int(near.size)
 
 
 def _decide(exact, args, ref: float) -> np.float32:
@@ -133,49 +152,75 @@ class LadderResult:
 
 def score(ufunc, func: str, variant: str, bits: np.ndarray, y_bits: np.ndarray | None = None) -> LadderResult:
     """Score ``ufunc`` on the float32 inputs with these bit patterns (pow: and exponents)."""
-    out = LadderResult(func, variant)
+    return score_many({variant: ufunc}, func, bits, y_bits)[variant]
+
+
+def score_many(ufuncs: dict, func: str, bits: np.ndarray, y_bits: np.ndarray | None = None) -> dict:
+    """Score every variant of ``ufuncs`` (name -> ufunc) on these inputs against one reference.
+
+    What does not depend on the variant is computed once per block: the reference, the correctly
+    rounded result, and the error of the nearest float32 (which a variant's result is, on most
+    lanes); a variant's own error is measured only where its result differs from that float."""
+    out = {variant: LadderResult(func, variant) for variant in ufuncs}
     for s in range(0, bits.size, BLOCK):
         x = bits[s:s + BLOCK].view(np.float32)
         y = None if y_bits is None else y_bits[s:s + BLOCK].view(np.float32)
-        with np.errstate(all="ignore"):  # peers (NumPy) warn at overflow and invalid inputs
-            got = ufunc(x) if y is None else ufunc(x, y)
         ref = c99_reference(func, x, y)
         want, decided = correctly_rounded(func, x, ref, y)
-        both_nan = np.isnan(got) & np.isnan(want)
-        wrong = (got.view(np.uint32) != want.view(np.uint32)) & ~both_nan
-        with np.errstate(all="ignore"):
-            err = np.abs(got.astype(np.float64) - ref) / ulp32(ref)
-            err[~(np.isfinite(err) & np.isfinite(got))] = 0.0
         tiny = (np.abs(want) < 2.0 ** -126) & (want != 0)  # the correct result is a subnormal float
-        block = LadderResult(func, variant, inputs=x.size, misrounded=int(wrong.sum()),
-                             subnormal_results=int(tiny.sum()), subnormal_misrounded=int((tiny & wrong).sum()),
-                             decided_by_mpmath=decided)
-        i = int(np.argmax(err))
-        block.max_ulp, block.max_ulp_at = float(err[i]), float(x[i])
-        block.examples = [(float(x[j]),) + (() if y is None else (float(y[j]),)) + (float(got[j]), float(want[j]))
-                          for j in np.flatnonzero(wrong)[:8]]
-        out.merge(block)
+        with np.errstate(all="ignore"):
+            nearest = ref.astype(np.float32)
+            base = _ulp_error(nearest, ref)
+        for variant, ufunc in ufuncs.items():
+            with np.errstate(all="ignore"):  # peers (NumPy) warn at overflow and invalid inputs
+                got = ufunc(x) if y is None else ufunc(x, y)
+            out[variant].merge(_block(func, variant, x, y, got, want, ref, nearest, base, tiny, decided))
     return out
+
+
+def _ulp_error(got: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """|got - ref| in ULP-32 at ref; 0 where either is not finite."""
+    with np.errstate(all="ignore"):
+        err = np.abs(got.astype(np.float64) - ref) / ulp32(ref)
+    err[~(np.isfinite(err) & np.isfinite(got))] = 0.0
+    return err
+
+
+def _block(func, variant, x, y, got, want, ref, nearest, base, tiny, decided) -> LadderResult:
+    got_bits, want_bits = got.view(np.uint32), want.view(np.uint32)
+    wrong = np.flatnonzero(got_bits != want_bits)
+    wrong = wrong[~(np.isnan(got[wrong]) & np.isnan(want[wrong]))]
+    other = np.flatnonzero(got_bits != nearest.view(np.uint32))
+    err = base.copy()
+    err[other] = _ulp_error(got[other], ref[other])
+    block = LadderResult(func, variant, inputs=x.size, misrounded=int(wrong.size),
+                         subnormal_results=int(tiny.sum()), subnormal_misrounded=int(tiny[wrong].sum()),
+                         decided_by_mpmath=decided)
+    i = int(np.argmax(err))
+    block.max_ulp, block.max_ulp_at = float(err[i]), float(x[i])
+    block.examples = [(float(x[j]),) + (() if y is None else (float(y[j]),)) + (float(got[j]), float(want[j]))
+                      for j in wrong[:8]]
+    return block
 
 
 _WORKER: dict = {}
 
 
-def _init(ufunc, func, variant):
-    _WORKER.update(ufunc=ufunc, func=func, variant=variant)
+def _init(ufuncs, func):
+    _WORKER.update(ufuncs=ufuncs, func=func)
 
 
 def _task(span):
     start, stop, step = span
     bits = np.arange(start, stop, step, dtype=np.uint64).astype(np.uint32)
-    return score(_WORKER["ufunc"], _WORKER["func"], _WORKER["variant"], bits)
+    return score_many(_WORKER["ufuncs"], _WORKER["func"], bits)
 
 
 def _pow_task(task):
     k, y = task
     from .pairs import x_stratum
     x = x_stratum(k, 0)
-    return score(_WORKER["ufunc"], "pow", _WORKER["variant"], x, np.full(x.size, y, np.uint32))
+    return score_many(_WORKER["ufuncs"], "pow", x, np.full(x.size, y, np.uint32))
 
 
 def pow_hard_cases() -> tuple[np.ndarray, np.ndarray]:
@@ -200,6 +245,19 @@ def pow_hard_cases() -> tuple[np.ndarray, np.ndarray]:
         for x, y in ((2.0, b), (4.0, b / 2), (0.5, -b), (2.0 ** max(-126, min(b, 127)), 1.0)):
             xs.append(x)
             ys.append(y)
+    for n in range(2, 16):                        # exact results halfway between two floats
+        for m in range(3, int(2 ** (25 / n)) + 2, 2):
+            if 2 ** 24 < m ** n < 2 ** 25:            # 25 significant bits: a midpoint of normal floats
+                for scale in (2.0 ** -m.bit_length(), 2.0 ** (3 - m.bit_length()), -(2.0 ** -m.bit_length())):
+                    xs.append(m * scale)
+                    ys.append(n)
+            if 150 % n == 0 and m ** n < 2 ** 24:     # m^n 2^-150: a midpoint of subnormal floats
+                xs.append(m * 2.0 ** (-150 // n))
+                ys.append(n)
+    for k in range(1, 151):                           # 2^-150 = x^y with x a power of two: halfway to 0
+        if 150 % k == 0:
+            xs.append(2.0 ** -k)
+            ys.append(150 // k)
     for base in range(-12, 13):                   # whole powers of whole numbers, negative bases too
         for n in range(-8, 9):
             xs.append(base)
@@ -213,26 +271,69 @@ def pow_hard_cases() -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(xs, np.float32).view(np.uint32), np.asarray(ys, np.float32).view(np.uint32)
 
 
-def sweep(ufunc, func: str, variant: str, *, start: int = 0, stop: int = 2 ** 32, step: int = 1,
-          chunk: int = 2 ** 22, workers: int | None = None, progress=None) -> LadderResult:
+def sweep(ufunc, func: str, variant: str, **options) -> LadderResult:
+    """``sweep_many`` of one variant."""
+    return sweep_many({variant: ufunc}, func, **options)[variant]
+
+
+def sweep_many(ufuncs: dict, func: str, *, start: int = 0, stop: int = 2 ** 32, step: int = 1,
+               chunk: int = 2 ** 22, workers: int | None = None, progress=None) -> dict:
     """Every ``step``-th float32 bit pattern in [start, stop), in tasks of ``chunk`` patterns on
-    forked workers. pow: the stratified sweep of ``routines.lab.pairs`` (256 exponents y, 2^22
-    x each: 2^30 pairs; ``step`` > 1 takes every step-th stratum) plus ``pow_hard_cases``."""
+    forked workers, each variant of ``ufuncs`` (name -> ufunc) scored against one reference per
+    input. pow: the stratified sweep of ``routines.lab.pairs`` (256 exponents y, 2^22 x each:
+    2^30 pairs; ``step`` > 1 takes every step-th stratum) plus ``pow_hard_cases``."""
     t0 = time.perf_counter()
     if func == "pow":
         from .pairs import y_strata
         tasks, run = list(enumerate(y_strata(0)))[::step], _pow_task
+        totals = score_many(ufuncs, func, *pow_hard_cases())
     else:
         span = chunk * step
         tasks, run = [(s, min(s + span, stop), step) for s in range(start, stop, span)], _task
-    total = LadderResult(func, variant)
-    if func == "pow":
-        total.merge(score(ufunc, func, variant, *pow_hard_cases()))
+        totals = {variant: LadderResult(func, variant) for variant in ufuncs}
     workers = workers or multiprocessing.cpu_count()
-    with forked_pool(workers, _init, (ufunc, func, variant)) as pool:
+    with forked_pool(workers, _init, (ufuncs, func)) as pool:
         for part in pool.imap_unordered(run, tasks):
-            total.merge(part)
+            for variant, result in part.items():
+                totals[variant].merge(result)
             if progress:
-                progress(part.inputs)
-    total.seconds = time.perf_counter() - t0
-    return total
+                progress(next(iter(part.values())).inputs)
+    for result in totals.values():
+        result.seconds = time.perf_counter() - t0
+    return totals
+
+
+def hard_cases(func: str, bits: np.ndarray, near: float) -> np.ndarray:
+    """(input bits, correctly rounded result bits) as int32 pairs, for the float32 inputs among
+    ``bits`` whose exact ``func`` lies within ``near`` relative of a float32 rounding boundary
+    (judged on the float64 reference with a margin of 2^-49 for its error; mpmath decides each)."""
+    x = bits.view(np.float32)
+    ref = c99_reference(func, x)
+    picked = _near(ref, near + 2.0 ** -49)
+    with np.errstate(all="ignore"):
+        r = ref[picked].astype(np.float32)
+    with mpmath.workdps(50):
+        for n, i in enumerate(picked):
+            r[n] = _decide(_MP[func], x[i], float(ref[i]))
+    return np.stack([bits[picked].view(np.int32), r.view(np.int32)], axis=1)
+
+
+def _hard_task(span):
+    start, stop = span
+    bits = np.arange(start, stop, dtype=np.uint64).astype(np.uint32)
+    return hard_cases(_WORKER["func"], bits, _WORKER["near"])
+
+
+def sweep_hard_cases(func: str, near: float, *, chunk: int = 2 ** 22, workers: int | None = None,
+                     progress=None) -> np.ndarray:
+    """``hard_cases`` over all 2^32 float32 inputs, sorted by input bits as signed integers."""
+    _WORKER.update(func=func, near=near)
+    tasks = [(s, s + chunk) for s in range(0, 2 ** 32, chunk)]
+    parts = []
+    with forked_pool(workers or multiprocessing.cpu_count(), None, ()) as pool:
+        for part in pool.imap_unordered(_hard_task, tasks):
+            parts.append(part)
+            if progress:
+                progress(chunk)
+    pairs = np.concatenate(parts)
+    return pairs[np.argsort(pairs[:, 0], kind="stable")]

@@ -61,6 +61,26 @@ def test_faithful_pow_on_its_hard_pairs_and_a_stratum():
         assert r.max_ulp < 0.6, (y, r.max_ulp_at)
 
 
+@pytest.mark.parametrize("fma", [True, False])
+def test_correct_pow_on_its_hard_pairs_and_strata(fma):
+    """The hard pairs include every exact result halfway between two floats (normal and
+    subnormal) that the double-double path alone would round either way."""
+    u = routines.jit("pow", "correct", fma=fma)
+    r = ladder.score(u, "pow", "correct", *ladder.pow_hard_cases())
+    assert r.misrounded == 0, r.examples
+    for y in (0.5, -1.5, 2.0, 3.0, 2.2, -40.0, 117.3, 1e-5):
+        r = ladder.score(u, "pow", "correct", SAMPLE, np.full(SAMPLE.size, np.float32(y).view(np.uint32)))
+        assert r.misrounded == 0, (y, r.examples)
+
+
+def test_correct_pow_rounds_exact_midpoints_to_even():
+    x = np.array([1 + 2 ** -12, -(1 + 2 ** -8), 2 ** -75, 3 * 2 ** -75, 2 ** -100], np.float32)
+    y = np.array([2, 3, 2, 2, 1.5], np.float32)
+    got = routines.jit("pow", "correct")(x, y)
+    want = np.array([1 + 2 ** -11, -np.float32((1 + 2 ** -8) ** 3), 0.0, 4 * 2.0 ** -149, 0.0], np.float32)
+    assert (got.view(np.uint32) == want.view(np.uint32)).all(), got
+
+
 @pytest.mark.parametrize("func", ("exp2", "exp", "log2", "log"))
 @pytest.mark.parametrize("tier", ("faithful", "correct"))
 def test_nan_inputs_come_back_quieted(func, tier):
@@ -94,11 +114,9 @@ def test_the_same_bits_at_every_x86_level(func):
 
 
 def test_routines_without_a_tier_refuse_it_clearly():
-    with pytest.raises(reactor.ReactorError, match="sin has no 'faithful' precision; its precisions are "
+    with pytest.raises(reactor.ReactorError, match="atan2 has no 'faithful' precision; its precisions are "
                                                    "'relaxed', 'full'"):
-        routines.jit("sin", "faithful")
-    with pytest.raises(reactor.ReactorError, match="pow has no 'correct' precision"):
-        routines.jit("pow", "correct")
+        routines.jit("atan2", "faithful")
     assert tiers("exp2") == ("relaxed", "full", "faithful", "correct")
 
 
