@@ -27,8 +27,13 @@ def main(argv: list[str]) -> int:
     p.add_argument("--fma", nargs="+", choices=("on", "off"), default=["on", "off"])
     p.add_argument("--exhaustive", action="store_true", help="all 2^32 inputs (pow: all 256 strata)")
     p.add_argument("--json", default="out/ladder.json", help="where to write the results (default %(default)s)")
+    p.add_argument("--table", action="store_true",
+                   help="print the exhaustive results of --json as a Markdown table (no sweep)")
     add_quiet(p)
     args = p.parse_args(argv)
+    if args.table:
+        print(table(json.loads(pathlib.Path(args.json).read_text()), args.functions or FUNCS))
+        return 0
 
     from tqdm import tqdm
 
@@ -60,3 +65,17 @@ def main(argv: list[str]) -> int:
             {(r["func"], r["variant"], r["exhaustive"]) for r in results}]
     out.write_text(json.dumps(keep + results, indent=1, default=str))
     return 1 if failed else 0
+
+
+def table(rows: list[dict], functions) -> str:
+    """The exhaustive rows of ``functions`` (in that order) as docs/accuracy-ladder.md's table."""
+    head = ("| function | tier | FMA | inputs | not correctly rounded | max ULP-32 (at x) | "
+            "subnormal results (wrong) | decided by mpmath | seconds |\n|---|---|---|---|---|---|---|---|---|")
+    lines = [head]
+    for func in functions:
+        for r in sorted((r for r in rows if r["func"] == func and r["exhaustive"]), key=lambda r: r["variant"]):
+            tier, _, fma = r["variant"].split()
+            lines.append(f"| {func} | {tier} | {fma} | {r['inputs']:,d} | {r['misrounded']:,d} | "
+                         f"{r['max_ulp']:.4f} ({r['max_ulp_at']:.9g}) | {r['subnormal_results']:,d} "
+                         f"({r['subnormal_misrounded']:,d}) | {r['decided_by_mpmath']:,d} | {r['seconds']:.1f} |")
+    return "\n".join(lines)
