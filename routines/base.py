@@ -29,6 +29,8 @@ BEYOND_VULKAN = {
     "exp2": ("faithful", "correct"), "exp": ("faithful", "correct"), "log2": ("faithful", "correct"),
     "log": ("faithful", "correct"), "pow": ("faithful", "correct"), "rcp": ("faithful", "correct"),
     "rsqrt": ("faithful", "correct"), "sqrt": ("faithful", "correct"),
+    **{name: ("faithful", "correct") for name in ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh",
+                                                   "cosh", "tanh")},
 }
 
 

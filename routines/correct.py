@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import pathlib
+import typing
 
 import numpy as np
 
@@ -88,7 +89,7 @@ def lookup(x, name: str):
 def finish(x, y, precision: Precision, name: str):
     """f(x) as float32 from its float64 approximation ``y`` (see the module docstring): rounded
     once for ``faithful``, correctly rounded for ``correct``. NaN lanes of y stay NaN."""
-    Float_ = vector_type("Float", x.width)
+    Float_: typing.Any = vector_type("Float", x.width)  # a Variable of it has ``.value``
     if precision is Precision.FAITHFUL:
         return Float_(y)
     lo, hi = Float_(y * (1.0 - WINDOW)), Float_(y * (1.0 + WINDOW))

@@ -9,6 +9,8 @@ The error-free transformations are the classic ones (Dekker 1971, Knuth TAOCP 4.
     fast_two_sum(a, b)  the same, for |a| >= |b|             (3 operations)
     two_prod(a, b)      p + e = a * b exactly                (FMA: 2; without: Dekker's split, 17)
 
+and on them products, sums, quotients (``div``) and Horner's scheme to about 2^-104.
+
 The FMA toggle is honoured: a build with FMA off computes products' errors by splitting,
 and no fused operation is emitted.
 """
@@ -72,6 +74,22 @@ def add(x: Pair, y: Pair) -> Pair:
     """(x.hi + x.lo) + (y.hi + y.lo) (Knuth's sum of the high parts, then the low parts)."""
     s, e = two_sum(x[0], y[0])
     return fast_two_sum(s, e + (x[1] + y[1]))
+
+
+def div(x: Pair, y: Pair) -> Pair:
+    """(x.hi + x.lo) / (y.hi + y.lo), relative error ~2^-104: three quotient digits, each from
+    the remainder so far."""
+    q1 = x[0] / y[0]
+    r = add(x, negate(mul_double(y, q1)))
+    q2 = r[0] / y[0]
+    r = add(r, negate(mul_double(y, q2)))
+    q3 = r[0] / y[0]
+    q = fast_two_sum(q1, q2)
+    return add(q, (q3, 0.0 * q3))
+
+
+def negate(x: Pair) -> Pair:
+    return -x[0], -x[1]
 
 
 def horner(x: Pair, coefficients: typing.Sequence[Pair], start=None) -> Pair:

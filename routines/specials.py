@@ -41,7 +41,7 @@ NOTES = {
     "exp": "exp(x) = exp2(x * log2(e)): thresholds follow from exp2's.",
     "log2": "Subnormal inputs are exact in both precisions (exponent extraction normalizes them).",
     "pow": "relaxed and full: IEEE 754 powr semantics (what GLSL's pow means), from exp2(y * log2(x)) "
-           "with no extra code. faithful: C99 Annex F pow (what NumPy's power and C's powf give): "
+           "with no extra code. faithful and correct: C99 Annex F pow (what NumPy's power and C's powf give): "
            "pow(x, +-0) = 1 and pow(1, y) = 1 even for NaN, a negative base to an integer power is "
            "signed, to a non-integer power NaN.",
     "rcp": "|x| > 2^126 gives the correctly rounded subnormal 1/x (RCP14 does not flush).",
@@ -152,6 +152,8 @@ ONE_UP = float(np.nextafter(np.float32(1), np.float32(2)))  # 1 + 2^-23
 
 
 def _trig_rows():
+    """sin ... tanh, atan2: the same rows hold in every tier (C99 Annex F agrees with GLSL's here),
+    but for the full tier's own (``("full",)``), which hold in the accurate tiers too."""
     r = []
     for fn in ("sin", "tan"):
         r += [Row(fn, (0.0,), 0.0, "+0"), Row(fn, (-0.0,), -0.0, "-0"), Row(fn, (INF,), NAN, "+inf"),
@@ -163,7 +165,7 @@ def _trig_rows():
           Row("cos", (TINY,), 1.0, "subnormal: 1"), Row("cos", (-1e-20,), 1.0, "tiny: 1"),
           Row("cos", (PIO2,), _f32(np.cos(np.float64(PIO2))), "fl(pi/2): -4.371139e-8"),
           Row("sin", (PIO2,), 1.0, "fl(pi/2): 1"), Row("sin", (3e38,), _f32(np.sin(np.float64(_f32(3e38)))),
-                                                        "3e38: Payne-Hanek reduction", ("full",))]
+                                                        "3e38: Payne-Hanek reduction", ("full",) + ACCURATE)]
     for fn in ("asin", "acos"):
         r += [Row(fn, (ONE_UP,), NAN, "1 + 2^-23: NaN"), Row(fn, (-ONE_UP,), NAN, "-(1 + 2^-23): NaN"),
               Row(fn, (2.0,), NAN, "|x| > 1: NaN"), Row(fn, (INF,), NAN, "+inf"), Row(fn, (-INF,), NAN, "-inf"),
@@ -195,7 +197,7 @@ def _trig_rows():
           Row(a, (NAN, INF), NAN, "(NaN, inf) = NaN"), Row(a, (0.0, NAN), NAN, "(0, NaN) = NaN"),
           Row(a, (TINY, 1e30), 0.0, "underflow of y/x: +0"),
           Row(a, (1e30, TINY), PIO2, "overflow of y/x: pi/2"),
-          Row(a, (MAX_FLOAT, MAX_FLOAT), _f32(np.pi / 4), "FLT_MAX on the diagonal: pi/4", ("full",))]
+          Row(a, (MAX_FLOAT, MAX_FLOAT), _f32(np.pi / 4), "FLT_MAX on the diagonal: pi/4", ("full",) + ACCURATE)]
     for fn in ("sinh", "tanh"):
         r += [Row(fn, (0.0,), 0.0, "+0"), Row(fn, (-0.0,), -0.0, "-0"), Row(fn, (NAN,), NAN, "NaN"),
               Row(fn, (TINY,), TINY, "subnormal: x"), Row(fn, (-1e-20,), -_f32(1e-20), "tiny: x")]
@@ -207,7 +209,8 @@ def _trig_rows():
           Row("cosh", (89.5,), INF, "overflow: |x| > 89.4159851"), Row("cosh", (-89.5,), INF, "-89.5: +inf"),
           Row("tanh", (INF,), 1.0, "+inf: 1"), Row("tanh", (-INF,), -1.0, "-inf: -1"),
           Row("tanh", (10.0,), 1.0, "10: 1"), Row("tanh", (-1000.0,), -1.0, "-1000: -1")]
-    return r
+    return [dataclasses.replace(row, precisions=row.precisions + ACCURATE) if row.precisions == BOTH else row
+            for row in r]
 
 
 def _accurate_rows():
@@ -235,7 +238,7 @@ def _accurate_rows():
               Row(fn, (-1.0,), NAN, "x < 0: NaN", a), Row(fn, (1.0,), 0.0, "1: +0", a)]
     r += [Row("log2", (sub,), -149.0, "least subnormal: -149", a),
           Row("log", (sub,), _f32(np.log(sub)), "least subnormal", a)]
-    f = ("faithful",)
+    f = ACCURATE
     r += [Row("pow", (NAN, 0.0), 1.0, "NaN ^ +0 = 1", f), Row("pow", (INF, -0.0), 1.0, "+inf ^ -0 = 1", f),
           Row("pow", (0.0, 0.0), 1.0, "+0 ^ +0 = 1", f), Row("pow", (-3.0, 0.0), 1.0, "x ^ 0 = 1", f),
           Row("pow", (1.0, NAN), 1.0, "1 ^ NaN = 1", f), Row("pow", (1.0, INF), 1.0, "1 ^ inf = 1", f),
@@ -337,14 +340,14 @@ RULES: tuple[Rule, ...] = (
          BOTH + ACCURATE),
     Rule("pow", "pow(2, k) = 2^k exactly for every integer k in [-126, 127]", _pow_two_integers),
     Rule("pow", "pow(2, k) = 2^k exactly for every integer k in [-149, 127] (subnormal results included)",
-         _pow_two_all_integers, ("faithful",)),
+         _pow_two_all_integers, ACCURATE),
     Rule("rcp", "rcp(2^k) = 2^-k exactly for k in [-126, 126]", _rcp_powers, BOTH + ACCURATE),
     Rule("rsqrt", "rsqrt(4^k) = 2^-k exactly for k in [-63, 63]", _rsqrt_powers, BOTH + ACCURATE),
-    *(Rule(fn, f"{fn}(x) = x exactly for 0 < |x| <= 2^-12 (subnormals included)", _identity_near_zero)
-      for fn in ("sin", "tan", "asin", "atan", "sinh", "tanh")),
-    Rule("cos", "cos(x) = 1 exactly for 0 < |x| <= 2^-12 (subnormals included)", _one_near_zero),
+    *(Rule(fn, f"{fn}(x) = x exactly for 0 < |x| <= 2^-12 (subnormals included)", _identity_near_zero,
+           BOTH + ACCURATE) for fn in ("sin", "tan", "asin", "atan", "sinh", "tanh")),
+    Rule("cos", "cos(x) = 1 exactly for 0 < |x| <= 2^-12 (subnormals included)", _one_near_zero, BOTH + ACCURATE),
     Rule("cosh", "cosh(x) = 1 exactly for 0 < |x| <= 2^-12 (subnormals included; relaxed: within "
-                 "RCP14's 2^-14 of 1)", _one_near_zero, ("full",)),
+                 "RCP14's 2^-14 of 1)", _one_near_zero, ("full",) + ACCURATE),
 )
 
 

@@ -1,7 +1,10 @@
 """sin, cos, tan, asin, acos, atan, atan2, sinh, cosh, tanh.
 
 Every routine takes Float values of any width, ``precision`` ("full" or
-"relaxed"; None: the build's) and ``fma`` (None: the build's), like exp2. The
+"relaxed"; None: the build's) and ``fma`` (None: the build's), like exp2.
+This module builds Vulkan's two tiers; the faithful and correct tiers evaluate
+in float64 lanes and round once (``routines.accurate_trig``,
+``accurate_inverse``, ``accurate_hyperbolic``, ``accurate_atan2``, ``correct``). The
 polynomials and their provenance are in routines/polynomials.py; the Vulkan
 tolerances (absolute 2^-11 / 2^-7 for sin and cos inside [-pi, pi], 4096 ULP /
 5 ULP-16 for atan and atan2, inherited from their defining formulas for the
@@ -126,6 +129,10 @@ PIO2_F64 = (1.5707963267923333, 2.563344151594519e-12)
 TWO_OVER_PI_PIECES = (0.6366197690367699, 3.3308114738561656e-09, 2.276010047810136e-18,
                       2.5268260189002822e-26, 1.6682867657019525e-34)
 TWO_OVER_PI_TAIL = 1.1588713353428143e-43         # 2/pi - T0 - ... - T4, to float64
+#: a sixth 28-bit piece T5 and the tail after it: for the float64 r of routines.accurate_trig,
+#: where |x| * TWO_OVER_PI_TAIL's rounding (~2^-66 near 2^128) is too much next to a tiny r
+TWO_OVER_PI_PIECE_5 = 1.158871328288855e-43
+TWO_OVER_PI_TAIL_5 = 7.053959263504975e-52        # 2/pi - T0 - ... - T5, to float64
 PIO2_DOUBLE = math.pi / 2
 SIGN = 0x80000000
 
@@ -139,6 +146,11 @@ def _types(x):
     return (vector_type("Float", x.width), vector_type("Int", x.width), vector_type("Double", x.width))
 
 
+def _beyond_vulkan(precision) -> bool:
+    """The faithful and correct tiers: float64 lanes (routines.accurate_*, routines.correct)."""
+    return precision in (Precision.FAITHFUL, Precision.CORRECT)
+
+
 def _full(precision) -> bool:
     return precision is Precision.FULL
 
@@ -147,19 +159,32 @@ def _full(precision) -> bool:
 
 def _reduce_large(ax):
     """(r, q) for any float32 |x| (Payne-Hanek in double lanes; see the module doc)."""
-    Float_, _, Double_ = _types(ax)
+    Float_ = _types(ax)[0]
+    r, q = reduce_large_double(ax)
+    return Float_(r), Float_(q)                             # q: a small integer (mod 4 later)
+
+
+def reduce_large_double(ax, extended: bool = False):
+    """(r, q) as double lanes for any float32 |x|: |x| = q pi/2 + r, |r| <= pi/4, q a whole
+    number congruent to the quadrant mod 4 (not |x|'s quotient: the pieces' integer parts
+    are dropped mod 4). The fraction's error is that of the tail term, 2^-53 |x| tail
+    (< 2^-66 absolute), and ~2^-53 relative to itself for the rest. ``extended`` (used by
+    ``routines.accurate_trig``, which keeps r unrounded) adds a sixth piece, so the tail's
+    error falls to < 2^-95 and r's relative error stays ~2^-52 for every float32 |x|."""
+    Double_ = _types(ax)[2]
     d = Double_(ax)
     acc = q = None
-    for piece in TWO_OVER_PI_PIECES:
+    pieces = TWO_OVER_PI_PIECES + ((TWO_OVER_PI_PIECE_5,) if extended else ())
+    for piece in pieces:
         p = d * piece                                       # exact: 24 x 28 bits
         p = p - Round(p * 0.25) * 4.0                       # p mod 4 in [-2, 2], exact (no FMA needed)
         acc = p if acc is None else acc + p
         k = Round(acc)
         acc = acc - k                                       # in [-1/2, 1/2], exact
         q = k if q is None else q + k
-    acc = acc + d * TWO_OVER_PI_TAIL                        # < 2^-14: its error < 2^-66
+    acc = acc + d * (TWO_OVER_PI_TAIL_5 if extended else TWO_OVER_PI_TAIL)  # < 2^-14: error < 2^-66
     k = Round(acc)
-    return Float_((acc - k) * PIO2_DOUBLE), Float_(q + k)    # q: a small integer (mod 4 later)
+    return (acc - k) * PIO2_DOUBLE, q + k
 
 
 def _reduce_double(ax):
@@ -243,6 +268,9 @@ def _sign_of(x):
 def sin(x, precision: Precision = Precision.FULL):
     """sin(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "sin")
+    if _beyond_vulkan(precision):
+        from . import accurate_trig
+        return accurate_trig.sin(x, precision).named("sin")
 
     def finish(r, q):
         s, c = _sin_cos_of_reduced(r, precision)
@@ -255,6 +283,9 @@ def sin(x, precision: Precision = Precision.FULL):
 def cos(x, precision: Precision = Precision.FULL):
     """cos(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "cos")
+    if _beyond_vulkan(precision):
+        from . import accurate_trig
+        return accurate_trig.cos(x, precision).named("cos")
 
     def finish(r, q):
         s, c = _sin_cos_of_reduced(r, precision)
@@ -268,6 +299,9 @@ def cos(x, precision: Precision = Precision.FULL):
 def tan(x, precision: Precision = Precision.FULL):
     """tan(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "tan")
+    if _beyond_vulkan(precision):
+        from . import accurate_trig
+        return accurate_trig.tan(x, precision).named("tan")
 
     def finish(r, q):                                       # near a pole, tan ~ 1/r: r's error counts
         s, c = _sin_cos_of_reduced(r, precision)
@@ -295,6 +329,9 @@ def _asin_core(x, precision):
 def asin(x, precision: Precision = Precision.FULL):
     """asin(x) for Float values of any width; NaN outside [-1, 1]; see the module docstring."""
     x = float_value(x, "asin")
+    if _beyond_vulkan(precision):
+        from . import accurate_inverse
+        return accurate_inverse.asin(x, precision).named("asin")
     p, high = _asin_core(x, precision)
     v = Select(high, MulAdd(p, -2.0, PIO2_LO) + PIO2_HI, p)  # pi/2 - 2p
     return CopySign(v, x).named("asin")
@@ -304,6 +341,9 @@ def asin(x, precision: Precision = Precision.FULL):
 def acos(x, precision: Precision = Precision.FULL):
     """acos(x) for Float values of any width; NaN outside [-1, 1]; see the module docstring."""
     x = float_value(x, "acos")
+    if _beyond_vulkan(precision):
+        from . import accurate_inverse
+        return accurate_inverse.acos(x, precision).named("acos")
     p, high = _asin_core(x, precision)
     low = (PIO2_LO - CopySign(p, x)) + PIO2_HI               # pi/2 - asin(x)
     negative = x < 0.0
@@ -325,6 +365,9 @@ def _atan01(t, precision):
 def atan(x, precision: Precision = Precision.FULL):
     """atan(x) for Float values of any width; atan(+-inf) = +-pi/2; see the module docstring."""
     x = float_value(x, "atan")
+    if _beyond_vulkan(precision):
+        from . import accurate_inverse
+        return accurate_inverse.atan(x, precision).named("atan")
     ax = Abs(x)
     t = Min(1.0, ax) / Max(1.0, ax)                         # both keep a NaN (it is their 2nd operand)
     a = _atan01(t, precision)
@@ -340,6 +383,9 @@ def atan2(y, x, precision: Precision = Precision.FULL):
     x = float_value(x, "atan2", "x")
     Float_, Int_, _ = _types(x * y)                         # the common width (a scalar broadcasts)
     x, y = (v if v.width == Float_.vtype.width else Float_(v) for v in (x, y))
+    if _beyond_vulkan(precision):
+        from . import accurate_atan2
+        return accurate_atan2.atan2(y, x, precision).named("atan2")
     ax, ay = Abs(x), Abs(y)
     swap = ay > ax                                          # false with a NaN
     num = Select(swap, ax, ay)
@@ -386,6 +432,9 @@ def _odd_small(ax, poly):
 def sinh(x, precision: Precision = Precision.FULL):
     """sinh(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "sinh")
+    if _beyond_vulkan(precision):
+        from . import accurate_hyperbolic
+        return accurate_hyperbolic.sinh(x, precision).named("sinh")
     ax = Abs(x)
     h = _exp_half(ax, precision)
     large = h - _reciprocal(h, 0.25, precision)
@@ -397,6 +446,9 @@ def sinh(x, precision: Precision = Precision.FULL):
 def cosh(x, precision: Precision = Precision.FULL):
     """cosh(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "cosh")
+    if _beyond_vulkan(precision):
+        from . import accurate_hyperbolic
+        return accurate_hyperbolic.cosh(x, precision).named("cosh")
     h = _exp_half(Abs(x), precision)
     return (h + _reciprocal(h, 0.25, precision)).named("cosh")
 
@@ -405,6 +457,9 @@ def cosh(x, precision: Precision = Precision.FULL):
 def tanh(x, precision: Precision = Precision.FULL):
     """tanh(x) for Float values of any width; see the module docstring."""
     x = float_value(x, "tanh")
+    if _beyond_vulkan(precision):
+        from . import accurate_hyperbolic
+        return accurate_hyperbolic.tanh(x, precision).named("tanh")
     ax = Abs(x)
     h = _exp_half(ax + ax, precision)
     large = 1.0 - _reciprocal(h + 0.5, 1.0, precision)

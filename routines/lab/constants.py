@@ -40,6 +40,19 @@ def log2_series() -> tuple[list[float], list[tuple[float, float]]]:
         return [float(v) for v in c[:12]], [dd.constant(v) for v in c[12:]]
 
 
+def atan_series() -> list[tuple[float, float]]:
+    """atan(d) / d = sum (-1)^n z^n / (2n+1), z = d^2, n <= 8 (remainder < 2^-110 for |d| <= 1/64),
+    highest power first, as double-double pairs."""
+    with mpmath.workdps(60):
+        return [dd.constant(mpmath.mpf((-1) ** n) / (2 * n + 1)) for n in range(9)][::-1]
+
+
+def atan_table() -> list[tuple[float, float]]:
+    """atan(k / 32), k = 0..32, as double-double pairs."""
+    with mpmath.workdps(60):
+        return [dd.constant(mpmath.atan(mpmath.mpf(k) / 32)) for k in range(33)]
+
+
 def srgb8_thresholds() -> np.ndarray:
     """T[k] (k = 0..254): the smallest float32 whose sRGB8 code is k + 1: code(T[k]) = k + 1 and
     code(prevfloat(T[k])) = k, both checked at 60 digits."""
@@ -83,6 +96,10 @@ def module_text() -> str:
             + f"EXP2_SERIES_HIGH = {_tuple(e_hi)}\nEXP2_SERIES_LOW = {_tuple(e_lo)}\n\n"
             + "#: 2 atanh(s) / (s ln 2)'s series in z = s^2, highest power first, the same way\n"
             + f"LOG2_SERIES_HIGH = {_tuple(l_hi)}\nLOG2_SERIES_LOW = {_tuple(l_lo)}\n\n"
+            + "#: atan(d) / d's series in z = d^2 (|d| <= 1/64), highest power first, double-double pairs\n"
+            + f"ATAN_SERIES = {_tuple(atan_series())}\n"
+            + "#: atan(k / 32), k = 0..32, double-double pairs\n"
+            + f"ATAN_TABLE = {_tuple(atan_table())}\n\n"
             + "#: float32 bits: the smallest float32 of each sRGB8 code 1..255\n"
             + f"SRGB8_THRESHOLD_BITS = {_bits(srgb8_thresholds())}\n\n"
             + "#: float32 bits: sRGB^-1(k / 255) correctly rounded, k = 0..255\n"

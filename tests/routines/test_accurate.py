@@ -74,10 +74,14 @@ def test_correct_pow_on_its_hard_pairs_and_strata(fma):
 
 
 def test_correct_pow_rounds_exact_midpoints_to_even():
-    x = np.array([1 + 2 ** -12, -(1 + 2 ** -8), 2 ** -75, 3 * 2 ** -75, 2 ** -100], np.float32)
-    y = np.array([2, 3, 2, 2, 1.5], np.float32)
+    x = np.array([1 + 2 ** -12, -(1 + 2 ** -8), 2 ** -75, 3 * 2 ** -75, 2 ** -100, 257 ** 2, 3 ** 2 * 2.0 ** -100],
+                 np.float32)
+    y = np.array([2, 3, 2, 2, 1.5, 1.5, 1.5], np.float32)
     got = routines.jit("pow", "correct")(x, y)
-    want = np.array([1 + 2 ** -11, -np.float32((1 + 2 ** -8) ** 3), 0.0, 4 * 2.0 ** -149, 0.0], np.float32)
+    want = np.array([1 + 2 ** -11, -np.float32((1 + 2 ** -8) ** 3), 0.0, 4 * 2.0 ** -149, 0.0,
+                     16974592.0,              # 257^3 = 16974593: halfway, to even
+                     14 * 2.0 ** -149],       # 27 2^-150 = 13.5 2^-149: halfway, to even
+                    np.float32)
     assert (got.view(np.uint32) == want.view(np.uint32)).all(), got
 
 
@@ -113,11 +117,11 @@ def test_the_same_bits_at_every_x86_level(func):
             assert (got == want).all(), (func, tier, fma, target)
 
 
-def test_routines_without_a_tier_refuse_it_clearly():
-    with pytest.raises(reactor.ReactorError, match="atan2 has no 'faithful' precision; its precisions are "
-                                                   "'relaxed', 'full'"):
-        routines.jit("atan2", "faithful")
-    assert tiers("exp2") == ("relaxed", "full", "faithful", "correct")
+def test_every_routine_has_every_tier_and_a_wrong_name_is_refused_clearly():
+    assert all(tiers(name) == ("relaxed", "full", "faithful", "correct") for name in routines.NAMES)
+    with pytest.raises(reactor.ReactorError, match="sin: precision must be one of 'relaxed', 'full', "
+                                                   "'faithful', 'correct', not 'exact'"):
+        routines.jit("sin", "exact")
 
 
 def test_a_kernel_can_ask_for_a_tier():

@@ -15,7 +15,8 @@ LIBRARY = ["-p", "reactor", "-m", "routines", "-m", "routines.kernels", "-m", "r
            "-m", "routines.exponential", "-m", "routines.logarithm", "-m", "routines.power",
            "-m", "routines.reciprocal", "-m", "routines.polynomials", "-m", "routines.specials",
            "-m", "routines.glsl", "-m", "routines.trig", "-m", "routines.pixels", "-m", "routines.accurate",
-           "-m", "routines.doubled"]
+           "-m", "routines.doubled", "-m", "routines.correct", "-m", "routines.accurate_trig",
+           "-m", "routines.accurate_inverse", "-m", "routines.accurate_hyperbolic", "-m", "routines.accurate_atan2"]
 
 
 def _mypy(args, tmp_path):
