@@ -381,10 +381,10 @@ def _pow_correct(ax, y, e, u, integer):
     (log2 to ~2^-80 by ``_log2_pair``, the product by y exactly, 2^t by ``_exp2_pair``) and
     rounded exactly, except for the results that are exact, which a double-double cannot round
     when they are a midpoint of two floats: x a power of two with y log2|x| whole (2^t exactly),
-    and y a whole number from 2 to 15 with |x|^y exact in float64 (checked product by product).
-    Every other result is irrational or has more than 53 bits, so it is no midpoint; it is
-    rounded correctly wherever it lies farther than the double-double's error (~2^-78) from one
-    (the stratified sweep and the hard pairs find no other: ``python -m routines ladder pow``)."""
+    and y = p / 2^k (p from 2 to 15, k <= 3) with |x|^y exact in float64 (``_exact_power``).
+    No other result is a midpoint (25 significant bits); each is rounded correctly wherever it
+    lies farther than the double-double's error (~2^-78) from one (the stratified sweep and the
+    hard pairs find no other: ``python -m routines ladder pow``)."""
     F, D, I, _ = _types(u.width)
     fused = dd.fused()
     yd = D(y)
@@ -411,9 +411,28 @@ def _pow_pair(ax, yd, e, u, integer):
     te = yd * e                                             # exact
     power_of_two = (u == 0.0) & (Round(te) == te) & (reactor.Abs(te) <= 250.0)
     rounded = Select(power_of_two, F(_pow2(Select(power_of_two, te, D(0.0)))), rounded)
-    product, exact = _small_power(D(ax), Select(integer & (yd >= 2.0) & (yd <= 15.0), yd, D(2.0)))
-    whole = integer & (yd >= 2.0) & (yd <= 15.0) & exact
-    return Select(whole, F(product), rounded)
+    product, exact = _exact_power(D(ax), yd)
+    return Select(exact, F(product), rounded)
+
+
+def _exact_power(xd, yd):
+    """(|x|^y, where it was computed exactly) for y = p / 2^k with p a whole number from 2 to 15
+    and k <= 3: |x|'s 2^k-th root by square roots, each checked exact (its square is |x|'s
+    root before it), then the p-th power by ``_small_power``. These are the y whose powers of
+    a float can be exactly halfway between two floats (25 significant bits: x = n^(2^k) 2^j and
+    x^y = n^p 2^i; n >= 3 bounds p by 15 and 2^k by 15)."""
+    _, D, _, _ = _types(xd.width)
+    base, yk, roots = xd, yd, yd == yd
+    for _ in range(3):
+        fraction = Trunc(yk) != yk
+        root = reactor.Sqrt(base)
+        square, err = dd.two_prod(root, root)
+        roots = roots & (~fraction | ((square == base) & (err == 0.0)))
+        base = Select(fraction, root, base)
+        yk = Select(fraction, yk * 2.0, yk)
+    whole = (Trunc(yk) == yk) & (yk >= 2.0) & (yk <= 15.0) & roots & (yd > 1.0)
+    product, exact = _small_power(base, Select(whole, yk, D(2.0)))
+    return product, whole & exact
 
 
 def _small_power(xd, n):

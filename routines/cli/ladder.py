@@ -3,8 +3,8 @@
 Each variant (function x tier x FMA on/off) runs on float32 inputs against a correctly
 rounded reference, computed once per input for all the variants of a function (``routines.lab.rounding``): results not correctly rounded, max ULP-32,
 subnormal results. By default every 256th bit pattern (2^24 inputs, every binade and sign);
-``--exhaustive``: all 2^32. pow (faithful) runs the stratified 2^30-pair sweep (every 16th
-stratum by default) plus its hard pairs. Exit status 1 if a correct variant misrounds any
+``--exhaustive``: all 2^32. pow and atan2 run the stratified 2^30-pair sweep (every 16th
+stratum by default) plus their hard pairs. Exit status 1 if a correct variant misrounds any
 input or a faithful one errs by 1 ULP or more.
 """
 from __future__ import annotations
@@ -16,7 +16,8 @@ from . import add_quiet, choice_of
 from . import parser as command_parser
 
 FUNCS = ("exp2", "exp", "log2", "log", "rcp", "rsqrt", "sqrt", "pow", "sin", "cos", "tan", "asin", "acos",
-         "atan", "sinh", "cosh", "tanh")
+         "atan", "atan2", "sinh", "cosh", "tanh")
+PAIRS = ("pow", "atan2")
 
 
 def main(argv: list[str]) -> int:
@@ -25,7 +26,7 @@ def main(argv: list[str]) -> int:
                    help=f"any of {', '.join(FUNCS)} (default: all)")
     p.add_argument("--precisions", nargs="+", choices=("faithful", "correct"), default=["faithful", "correct"])
     p.add_argument("--fma", nargs="+", choices=("on", "off"), default=["on", "off"])
-    p.add_argument("--exhaustive", action="store_true", help="all 2^32 inputs (pow: all 256 strata)")
+    p.add_argument("--exhaustive", action="store_true", help="all 2^32 inputs (pow, atan2: all 256 strata)")
     p.add_argument("--json", default="out/ladder.json", help="where to write the results (default %(default)s)")
     p.add_argument("--table", action="store_true",
                    help="print the exhaustive results of --json as a Markdown table (no sweep)")
@@ -48,8 +49,8 @@ def main(argv: list[str]) -> int:
                     for precision in args.precisions if precision in tiers(func) for fma in args.fma}
         if not variants:
             continue
-        step = 1 if args.exhaustive else (16 if func == "pow" else 256)
-        total = (2 ** 30 if func == "pow" else 2 ** 32) // step
+        step = 1 if args.exhaustive else (16 if func in PAIRS else 256)
+        total = (2 ** 30 if func in PAIRS else 2 ** 32) // step
         with tqdm(total=total, unit="in", unit_scale=True, disable=None if not args.quiet else True,
                   desc=f"{func} ({len(variants)} variants)", leave=False) as bar:
             swept = ladder.sweep_many(variants, func, step=step, progress=bar.update)

@@ -216,11 +216,40 @@ def _task(span):
     return score_many(_WORKER["ufuncs"], _WORKER["func"], bits)
 
 
-def _pow_task(task):
+def _pair_task(task):
     k, y = task
     from .pairs import x_stratum
     x = x_stratum(k, 0)
-    return score_many(_WORKER["ufuncs"], "pow", x, np.full(x.size, y, np.uint32))
+    return score_many(_WORKER["ufuncs"], _WORKER["func"], x, np.full(x.size, y, np.uint32))
+
+
+def atan2_hard_cases() -> tuple[np.ndarray, np.ndarray]:
+    """atan2's hard pairs (first operand, second): every pair of special and extreme values,
+    pairs on and next to the diagonal |a| = |b| and at the ratios where its reduction changes
+    sector (tan(pi/8), tan(3pi/8)), quotients that underflow to subnormal results, and random
+    angles of every magnitude."""
+    rng = np.random.default_rng(23)
+    specials = [0.0, -0.0, np.inf, -np.inf, np.nan, 1.0, -1.0, 2.0 ** -149, -(2.0 ** -149), 2.0 ** -126,
+                3.4028235e38, -3.4028235e38, 1e-30, 1e30, 0.5, -3.0]
+    a, b = np.meshgrid(np.asarray(specials, np.float32), np.asarray(specials, np.float32))
+    xs, ys = [a.ravel()], [b.ravel()]
+    base = np.exp(rng.uniform(-80, 80, 20000)).astype(np.float32) * rng.choice([-1, 1], 20000).astype(np.float32)
+    for ratio in (1.0, np.tan(np.pi / 8), np.tan(3 * np.pi / 8), 1 / 64, 1 / 32):
+        for step in (-2, -1, 0, 1, 2):
+            other = np.nextafter(np.float32(ratio) * base, np.float32(np.inf) * step) if step else \
+                (np.float32(ratio) * base).astype(np.float32)
+            xs += [other, base]
+            ys += [base, other]
+    tiny = np.ldexp(rng.uniform(1, 2, 20000), rng.integers(-149, -100, 20000)).astype(np.float32)
+    xs.append(tiny)
+    ys.append(np.ldexp(rng.uniform(1, 2, 20000), rng.integers(0, 40, 20000)).astype(np.float32))
+    radius = np.exp(rng.uniform(-60, 60, 100000))
+    angle = rng.uniform(-np.pi, np.pi, 100000)
+    xs.append((radius * np.sin(angle)).astype(np.float32))
+    ys.append((radius * np.cos(angle)).astype(np.float32))
+    x, y = np.concatenate(xs).astype(np.float32), np.concatenate(ys).astype(np.float32)
+    return x.view(np.uint32), y.view(np.uint32)
+
 
 
 def pow_hard_cases() -> tuple[np.ndarray, np.ndarray]:
@@ -254,6 +283,15 @@ def pow_hard_cases() -> tuple[np.ndarray, np.ndarray]:
             if 150 % n == 0 and m ** n < 2 ** 24:     # m^n 2^-150: a midpoint of subnormal floats
                 xs.append(m * 2.0 ** (-150 // n))
                 ys.append(n)
+    for n, p in [(n, 3) for n in range(257, 322, 2)] + [(29, 5), (31, 5), (11, 7)]:   # x^(p/2) = n^p, x = n^2
+        for root, y in ((n * n, p / 2), (n ** 4, p / 4)):
+            if root < 2 ** 24:
+                for scale in (1.0, 2.0 ** -40, 2.0 ** 30):
+                    xs.append(root * scale)
+                    ys.append(y)
+    for n in range(3, 256, 2):                        # n^3 2^-150: halfway between subnormals
+        xs.append(n * n * 2.0 ** -100)
+        ys.append(1.5)
     for k in range(1, 151):                           # 2^-150 = x^y with x a power of two: halfway to 0
         if 150 % k == 0:
             xs.append(2.0 ** -k)
@@ -280,13 +318,15 @@ def sweep_many(ufuncs: dict, func: str, *, start: int = 0, stop: int = 2 ** 32, 
                chunk: int = 2 ** 22, workers: int | None = None, progress=None) -> dict:
     """Every ``step``-th float32 bit pattern in [start, stop), in tasks of ``chunk`` patterns on
     forked workers, each variant of ``ufuncs`` (name -> ufunc) scored against one reference per
-    input. pow: the stratified sweep of ``routines.lab.pairs`` (256 exponents y, 2^22 x each:
-    2^30 pairs; ``step`` > 1 takes every step-th stratum) plus ``pow_hard_cases``."""
+    input. pow and atan2: the stratified sweep of ``routines.lab.pairs`` (256 second operands,
+    2^22 first operands each: 2^30 pairs; ``step`` > 1 takes every step-th stratum) plus
+    ``pow_hard_cases`` or ``atan2_hard_cases``."""
     t0 = time.perf_counter()
-    if func == "pow":
-        from .pairs import y_strata
-        tasks, run = list(enumerate(y_strata(0)))[::step], _pow_task
-        totals = score_many(ufuncs, func, *pow_hard_cases())
+    if func in ("pow", "atan2"):
+        from .pairs import atan2_strata, y_strata
+        strata = y_strata(0) if func == "pow" else atan2_strata(0)
+        tasks, run = list(enumerate(strata))[::step], _pair_task
+        totals = score_many(ufuncs, func, *(pow_hard_cases() if func == "pow" else atan2_hard_cases()))
     else:
         span = chunk * step
         tasks, run = [(s, min(s + span, stop), step) for s in range(start, stop, span)], _task

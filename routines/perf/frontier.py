@@ -3,11 +3,12 @@
 most its time and at most its error) or not.
 
 Time: 64K float32 operands of ``timing.inputs`` (exp/exp2 in [-10, 10], logs in [1e-3, 100],
-pow x in [1e-3, 100] and y in [-10, 10]), one thread, every candidate called in turn in each
+pow x in [1e-3, 100] and y in [-10, 10], sin, cos, tan, atan and the hyperbolic functions in
+[-10, 10], asin and acos in [-1, 1], atan2's operands in [-10, 10]), one thread, every candidate called in turn in each
 of ``rounds`` rounds (same-run ratios on a shared machine), the median kept.
 Error: ``routines.lab.rounding.score`` on a sample of every binade: every 4099th float32 bit
-pattern (1,047,811 inputs), and for pow the hard pairs plus every 16th stratum of the 2^30
-sweep thinned to every 16th x (1M pairs); the max ULP-32 is taken over finite results (the
+pattern (1,047,811 inputs), and for pow and atan2 their hard pairs plus every 16th stratum of
+the 2^30 sweep thinned to every 16th x (1M pairs); the max ULP-32 is taken over finite results (the
 specials are counted apart as results not correctly rounded). The exhaustive figures of our
 faithful and correct tiers come from ``python -m routines ladder --exhaustive``.
 """
@@ -19,7 +20,8 @@ import time
 
 import numpy as np
 
-FUNCS = ("exp2", "exp", "log2", "log", "pow")
+FUNCS = ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh",
+         "tanh")
 N = 1 << 16
 SAMPLE_STRIDE = 4099
 
@@ -46,27 +48,29 @@ class Point:
 
 def sample(func: str) -> tuple[np.ndarray, np.ndarray | None]:
     """The accuracy sample's operand bit patterns (see the module docstring)."""
-    if func != "pow":
+    if func not in ("pow", "atan2"):
         return np.arange(0, 2 ** 32, SAMPLE_STRIDE, dtype=np.uint64).astype(np.uint32), None
-    from ..lab.rounding import pow_hard_cases
-    from ..lab.pairs import x_stratum, y_strata
-    xs, ys = [pow_hard_cases()[0]], [pow_hard_cases()[1]]
-    for k, y in list(enumerate(y_strata(0)))[::16]:
+    from ..lab.pairs import atan2_strata, x_stratum, y_strata
+    from ..lab.rounding import atan2_hard_cases, pow_hard_cases
+    hard = pow_hard_cases() if func == "pow" else atan2_hard_cases()
+    xs, ys = [hard[0]], [hard[1]]
+    for k, y in list(enumerate(y_strata(0) if func == "pow" else atan2_strata(0)))[::16]:
         x = x_stratum(k, 0)[::16]
         xs.append(x)
         ys.append(np.full(x.size, y, np.uint32))
     return np.concatenate(xs), np.concatenate(ys)
 
 
-def candidates(functions=FUNCS, fma: bool | None = None) -> list[tuple[Point, object]]:
-    """(point, callable ``fn(*args, out=)``) for our tiers and every peer, absent ones included."""
+def candidates(functions=FUNCS, fma: bool | None = None, target: str | None = None) -> list[tuple[Point, object]]:
+    """(point, callable ``fn(*args, out=)``) for our tiers (built for ``target``, None: this CPU)
+    and every peer, absent ones included."""
     from .. import jit
     from ..base import tiers
     from . import peers as peer_mod
     out = []
     for func in functions:
         for tier in tiers(func):
-            out.append((Point(f"ours {func} {tier}", func, "ours", tier), jit(func, tier, fma=fma)))
+            out.append((Point(f"ours {func} {tier}", func, "ours", tier), jit(func, tier, fma=fma, target=target)))
         for p in peer_mod.peers([func], families=("numpy", "libmvec", "sleef", "svml")):
             pt = Point(p.key, func, p.family, p.label, p.claimed, present=p.present, reason=p.reason)
             out.append((pt, p.fn))
@@ -126,9 +130,9 @@ def dominance(points: list[Point]) -> None:
         p.dominated_by = min(better, key=lambda o: o.ns).label if better else None
 
 
-def run(functions=FUNCS, rounds: int = 21) -> list[Point]:
+def run(functions=FUNCS, rounds: int = 21, target: str | None = None) -> list[Point]:
     """Every point of ``functions`` (those of :data:`FUNCS`), measured, peers marked."""
-    pairs = candidates([f for f in functions if f in FUNCS])
+    pairs = candidates([f for f in functions if f in FUNCS], target=target)
     measure_accuracy(pairs)
     measure_time(pairs, rounds)
     points = [pt for pt, _ in pairs]

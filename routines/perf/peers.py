@@ -23,8 +23,8 @@
   Where the library is not installed (``apt-get install libsleef3``) these
   peers are reported **absent**, not failed.
 * **Intel SVML** (``libsvml.so`` from PyPI's ``intel-cmplr-lib-rt``, the optional extra
-  ``pip install reactor[svml]``): its five tiers of exp2, exp, log2, log, pow and invsqrt
-  (rsqrt) at the host's level (``__svml_exp2f8``, ``__svml_exp2f8_ha``, ``_ep``, ``_br``,
+  ``pip install reactor[svml]``): its five tiers of exp2, exp, log2, log, pow, invsqrt
+  (rsqrt), sin, cos, tan, asin, acos, atan, atan2 (no ``cr``), sinh, cosh and tanh at the host's level (``__svml_exp2f8``, ``__svml_exp2f8_ha``, ``_ep``, ``_br``,
   ``_cr``; ``f16`` with AVX-512, ``f4`` with SSE). Intel documents ``la`` (no suffix) at
   4 ULP, ``ha`` 1 ULP, ``ep`` about half the bits, ``br`` bitwise reproducible (1 ULP),
   ``cr`` correctly rounded. Absent without the package.
@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import os
 from typing import Callable
 
 import numpy as np
@@ -77,7 +78,8 @@ _SLEEF = {
 } | {f: [f"{f}f{{w}}_u10", f"{f}f{{w}}_u35"] + ([f"fast{f}f{{w}}_u3500"] if f in ("sin", "cos") else [])
      for f in TRIG}
 #: SVML's names (C names without ``f``) and its tiers: (symbol suffix, label, documented accuracy).
-_SVML = {"exp2": "exp2", "exp": "exp", "log2": "log2", "log": "log", "pow": "pow", "rsqrt": "invsqrt"}
+_SVML = {"exp2": "exp2", "exp": "exp", "log2": "log2", "log": "log", "pow": "pow", "rsqrt": "invsqrt",
+         **{f: f for f in ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh")}}
 SVML_TIERS = (("", "la", "4 ULP"), ("_ha", "ha", "1 ULP"), ("_ep", "ep", "about 11 bits"),
               ("_br", "br", "1 ULP, bitwise reproducible"), ("_cr", "cr", "correctly rounded"))
 _SLEEF_CLAIM = {"u05": "0.5001 ULP", "u10": "1.0 ULP", "u35": "3.5 ULP", "u3500": "350 ULP"}
@@ -89,11 +91,14 @@ _LEVELS = (("avx512f", 16, "e"), ("avx2", 8, "d"), ("sse2", 4, "b"))
 @functools.lru_cache(maxsize=None)
 def vector_level() -> tuple[int, str]:
     """``(lanes, ISA letter)`` of the widest vector-function ABI level this CPU runs:
-    (16, "e") with AVX-512, (8, "d") with AVX2, else (4, "b")."""
+    (16, "e") with AVX-512, (8, "d") with AVX2, else (4, "b"); at most the level
+    ``ROUTINES_PEER_LEVEL`` names ("avx2" or "sse4": benchmarks/bench_ladder_levels.py)."""
     import reactor
 
     features = reactor.get_target("host").feature_set
-    return next((lanes, isa) for feature, lanes, isa in _LEVELS if feature in features or lanes == 4)
+    below = {"avx2": ("avx512f",), "sse4": ("avx512f", "avx2")}.get(os.environ.get("ROUTINES_PEER_LEVEL", ""), ())
+    return next((lanes, isa) for feature, lanes, isa in _LEVELS
+                if (feature in features and feature not in below) or lanes == 4)
 
 
 def mvec_symbol(func: str) -> str:
