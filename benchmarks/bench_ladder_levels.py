@@ -10,7 +10,7 @@ bench_targets.py does) and libmvec, SLEEF and SVML at its vector-function level
 same bits at every level; the peers' may differ slightly).
 
     python benchmarks/bench_ladder_levels.py [--levels avx512 avx2] [--functions exp2 log2]
-        [--rounds 21] [--json out/ladder_levels.json] [--markdown]
+        [--rounds 21] [--json out/ladder_levels.json] [--markdown] [--chart out]
 """
 from __future__ import annotations
 
@@ -37,6 +37,7 @@ def main(argv=None) -> int:
     p.add_argument("--rounds", type=int, default=21)
     p.add_argument("--json", metavar="FILE")
     p.add_argument("--markdown", action="store_true", help="print each level's table and statements")
+    p.add_argument("--chart", metavar="DIR", help="draw each level's DIR/ladder_<level>.png")
     p.add_argument("--child", choices=list(NUMPY_DISABLED), help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.child:
@@ -62,6 +63,9 @@ def main(argv=None) -> int:
         present = [q for q in points if not q.ours and q.present]
         dominated = sum(q.dominated_by is not None for q in present)
         print(f"{level}: {dominated} of {len(present)} present peers dominated")
+        if args.chart:
+            os.makedirs(args.chart, exist_ok=True)
+            frontier.chart(points, os.path.join(args.chart, f"ladder_{level}.png"))
         if args.markdown:
             print(frontier.table(points))
             print("\n".join(f"- {line}" for line in frontier.statements(points)))

@@ -26,7 +26,9 @@ def jit(name: str, precision="full", fma: bool | str | None = None, width: int |
         target: str | None = None):
     """The ufunc computing routine ``name`` ("exp2", "log2", "pow", "exp", "log",
     "rcp", "rsqrt", "sqrt", "sin", "cos", "tan", "asin", "acos", "atan", "sinh",
-    "cosh", "tanh"; binary: "pow" and "atan2", called as atan2(y, x)) in ``precision`` ("full"/"relaxed"), with FMA on or
+    "cosh", "tanh"; binary: "pow" and "atan2", called as atan2(y, x)) in ``precision`` ("relaxed" and
+    "full": Vulkan's mediump and highp, GLSL's special values; "faithful": below 1 ULP, "correct":
+    correctly rounded, both with C99 Annex F special values), with FMA on or
     off (None: fused where the target has FMA; True on a target without FMA is an error;
     "emulate": fused everywhere, in software where needed), at SIMD ``width`` (None: the
     target's natural width) for ``target`` (None: this CPU). Built once per

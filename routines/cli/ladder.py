@@ -71,7 +71,7 @@ def main(argv: list[str]) -> int:
 def table(rows: list[dict], functions) -> str:
     """The exhaustive rows of ``functions`` (in that order) as docs/accuracy-ladder.md's table."""
     head = ("| function | tier | FMA | inputs | not correctly rounded | max ULP-32 (at x) | "
-            "subnormal results (wrong) | decided by mpmath | seconds |\n|---|---|---|---|---|---|---|---|---|")
+            "subnormal results (wrong) | decided by mpmath | seconds (the variants swept together) |\n|---|---|---|---|---|---|---|---|---|")
     lines = [head]
     for func in functions:
         for r in sorted((r for r in rows if r["func"] == func and r["exhaustive"]), key=lambda r: r["variant"]):
