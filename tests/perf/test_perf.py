@@ -193,7 +193,8 @@ def test_trig_peers_and_families():
     keys = {p.key: p for p in ps}
     assert set(keys) == {"numpy sin", "libmvec sin", "sleef sin u10", "sleef sin u35", "sleef fastsin u3500",
                          "numba sin", "numpy atan2", "libmvec atan2", "sleef atan2 u10", "sleef atan2 u35",
-                         "numba atan2"}
+                         "numba atan2"} | {f"svml {f} {tier}" for f in ("sin", "atan2")
+                                           for tier in ("la", "ha", "ep", "br", "cr")}
     lanes, isa = peers.vector_level()  # the host's widest level: an entry point the CPU lacks is never called
     assert keys["libmvec atan2"].label == f"_ZGV{isa}N{lanes}vv_atan2f"
     assert keys["libmvec sin"].label == f"_ZGV{isa}N{lanes}v_sinf"
