@@ -100,11 +100,13 @@ class Plan:
             ms = self.times_ms.get(label)
             lines.append(f"  {label:<14} {self.changes.get(label, 0):>9,} {self.cycles[label]:>10.2f} "
                          f"{'' if ms is None else f'{ms:9.3f}'}")
-        ref = self.times_ms.get(f"all {TIERS[-1]}")
-        if ref and self.times_ms.get("plan"):
-            same = " (the same machine code)" if ref == self.times_ms["plan"] else ""
-            lines.append(f"  plan: {ref / self.times_ms['plan']:.2f}x the speed of all {TIERS[-1]}{same} "
-                         f"({self.timing_rows:,} elements, one thread, median of 41, same run)")
+        plan_ms = self.times_ms.get("plan")
+        speeds = [f"{self.times_ms[label] / plan_ms:.2f}x the speed of {label}"
+                  + (" (the same machine code)" if self.times_ms[label] == plan_ms else "")
+                  for label in ("all full", f"all {TIERS[-1]}") if plan_ms and self.times_ms.get(label)]
+        if speeds:
+            lines.append(f"  plan: {', '.join(speeds)} ({self.timing_rows:,} elements, one thread, median "
+                         f"of 41, same run)")
         return "\n".join(lines)
 
     def to_json(self) -> dict:

@@ -1,7 +1,7 @@
 """The search: the cheapest tier per routine call site that leaves the scene's output unchanged.
 
 1. **Reference**: the kernel built with every routine at the most accurate tier (the last of
-   ``reactor.Precision``), run on the check rows (``domains.py``); its stored output
+   ``reactor.Precision``: correctly rounded), run on the check rows (``domains.py``); its stored output
    (``outputs.py``) is what every candidate must reproduce exactly.
 2. **Sites**: the routine calls the reference build recorded (``kernel_of(u).routines``: routine
    and the user's file:line; a built-in such as ``normalize`` counts through the routine it calls).
@@ -23,13 +23,15 @@ import typing
 
 import numpy as np
 
-from ..build import SHADER_TIERS, Site
+from ..build import Precision, Site
 from ..cost.model import kernel_cycles
 from ..errors import ReactorError
 from .domains import Check, rows_to_check
 from .outputs import Output, changed_rows, row_margin
 
-TIERS = SHADER_TIERS  # least to most accurate
+#: least to most accurate: Vulkan's relaxed and full, then faithful and correct, which every routine
+#: has (a routine without a tier would be skipped at it); the reference is the last
+TIERS = tuple(p.value for p in Precision)
 WORST_ROWS = 2048  # rows around which a sampled check searches
 NEIGHBOURS = 16  # float32 steps on each side of each of them
 

@@ -178,3 +178,22 @@ def test_vector_inputs_are_planned_over_rows():
     assert {r.routine for r in p.reports} == {"rsqrt", "pow"}
     with pytest.raises(ReactorError, match="3 channels"):
         reactor.plan(lit, inputs={"n": "unorm8", "l": "unorm8"})
+
+
+@kernel
+def natural_log(x: Float) -> Float:
+    return gl.log(x)
+
+
+def test_the_reference_is_correctly_rounded_and_a_site_full_would_change_is_raised():
+    """The reference is every routine at the most accurate tier (correct); where full changes a
+    stored output (log near 1: thousands of ULP), the plan keeps the site above it: faithful when
+    the format tolerates its last-bit differences, correct when it stores every bit."""
+    x = np.linspace(1.0, 1.001, 4097, dtype=np.float32)
+    loose = reactor.plan(natural_log, inputs={"x": x}, output={"ulp": 1})
+    assert [r.tier for r in loose.reports] == ["faithful"] and loose.reports[0].below == "full"
+    assert loose.changes["all full"] > 0 and loose.changes["plan"] == 0
+    exact = reactor.plan(natural_log, inputs={"x": x}, output="float32")
+    assert [r.tier for r in exact.reports] == ["correct"] and exact.changes["all faithful"] > 0
+    assert (exact.ufunc(x) == np.log(x.astype(np.float64)).astype(np.float32)).all()
+    assert "the speed of all full" in str(loose) and "the speed of all correct" in str(loose)
