@@ -2,7 +2,6 @@
 kernels: correct rounding against the lab's correctly rounded reference, faithfulness, NaN
 bits, the FMA toggle, the same bits on every x86 level, and the refusals of routines
 without these tiers. The exhaustive proofs are ``python -m routines ladder --exhaustive``."""
-import itertools
 
 import mpmath
 import numpy as np
@@ -10,6 +9,7 @@ import pytest
 
 import reactor
 import routines
+import tier_checks
 from routines.base import tiers
 from routines.lab import rounding as ladder
 from routines.polynomials import DOUBLE
@@ -39,16 +39,13 @@ def _inputs(func):
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", CORRECT)
 def test_correct_tier_is_correctly_rounded(func, fma):
-    r = ladder.score(routines.jit(func, "correct", fma=fma), func, "correct", _inputs(func))
-    assert r.misrounded == 0, r.examples
-    assert r.max_ulp <= 0.5 + 1e-9
+    tier_checks.assert_correctly_rounded(func, fma, _inputs(func))
 
 
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", ("exp2", "exp", "log2", "log", "rsqrt"))
 def test_faithful_tier_is_below_one_ulp(func, fma):
-    r = ladder.score(routines.jit(func, "faithful", fma=fma), func, "faithful", _inputs(func))
-    assert r.max_ulp < 1.0, (r.max_ulp, r.max_ulp_at)
+    tier_checks.assert_faithful(func, fma, _inputs(func), 1.0)
 
 
 def test_faithful_pow_on_its_hard_pairs_and_a_stratum():
@@ -105,16 +102,7 @@ def test_the_same_bits_at_every_x86_level(func):
     """Correctly rounded results are unique; the faithful tier's float32 path (FMA on, emulated
     exactly at sse4) and float64 path (FMA off: rounded multiplies and adds) are the same code
     everywhere."""
-    x = _inputs(func).view(np.float32)
-    host = reactor.get_target("host").feature_set
-    for tier, fma in itertools.product(("faithful", "correct"), (True, False)):
-        want = routines.jit(func, tier, fma=fma)(x).view(np.uint32)
-        for target in ("avx2", "sse4"):
-            if target == "avx2" and "avx2" not in host:
-                continue
-            emulated = "emulate" if fma and target == "sse4" else fma
-            got = routines.jit(func, tier, fma=emulated, target=target)(x).view(np.uint32)
-            assert (got == want).all(), (func, tier, fma, target)
+    tier_checks.assert_the_same_bits_at_every_x86_level(func, _inputs(func))
 
 
 def test_every_routine_has_every_tier_and_a_wrong_name_is_refused_clearly():

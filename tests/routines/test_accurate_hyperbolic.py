@@ -3,7 +3,6 @@ compiled kernels: correct rounding against the lab's correctly rounded reference
 on the regions where these functions are hard, faithfulness, both FMA settings, the specials
 (signed zeros, infinities, overflow, saturation, NaN payloads), and the float64 value's error
 bound against mpmath. The exhaustive proof is ``python -m routines ladder --exhaustive``."""
-import itertools
 import math
 
 import mpmath
@@ -12,6 +11,7 @@ import pytest
 
 import reactor
 import routines
+import tier_checks
 from routines import accurate_hyperbolic as H
 from routines import correct
 from routines.lab import rounding as ladder
@@ -48,16 +48,13 @@ def _inputs(func):
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", FUNCS)
 def test_correct_tier_is_correctly_rounded(func, fma):
-    r = ladder.score(routines.jit(func, "correct", fma=fma), func, "correct", _inputs(func))
-    assert r.misrounded == 0, r.examples
-    assert r.max_ulp <= 0.5 + 1e-9
+    tier_checks.assert_correctly_rounded(func, fma, _inputs(func))
 
 
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", FUNCS)
 def test_faithful_tier_is_below_one_ulp(func, fma):
-    r = ladder.score(routines.jit(func, "faithful", fma=fma), func, "faithful", _inputs(func))
-    assert r.max_ulp < 0.51, (r.max_ulp, r.max_ulp_at)  # 0.5 + 2^24 * (float64 error < 2^-33)
+    tier_checks.assert_faithful(func, fma, _inputs(func), 0.51)  # 0.5 + 2^24 * (float64 error < 2^-33)
 
 
 def _bits(v):
@@ -179,15 +176,4 @@ def test_polynomials_meet_their_stated_error(poly):
 
 @pytest.mark.parametrize("func", FUNCS)
 def test_the_same_bits_at_every_x86_level(func):
-    """Correctly rounded results are unique; the faithful tier's float64 path uses rounded
-    multiplies and adds only (and one division), the same everywhere."""
-    x = _inputs(func).view(np.float32)
-    host = reactor.get_target("host").feature_set
-    for tier, fma in itertools.product(("faithful", "correct"), (True, False)):
-        want = routines.jit(func, tier, fma=fma)(x).view(np.uint32)
-        for target in ("avx2", "sse4"):
-            if target == "avx2" and "avx2" not in host:
-                continue
-            emulated = "emulate" if fma and target == "sse4" else fma
-            got = routines.jit(func, tier, fma=emulated, target=target)(x).view(np.uint32)
-            assert (got == want).all(), (func, tier, fma, target)
+    tier_checks.assert_the_same_bits_at_every_x86_level(func, _inputs(func))

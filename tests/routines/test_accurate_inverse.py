@@ -12,6 +12,7 @@ import pytest
 
 import reactor
 import routines
+import tier_checks
 from reactor import Double, Float, Precision
 from routines import accurate_inverse as inverse
 from routines import correct
@@ -44,17 +45,14 @@ def _inputs(func):
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", NAMES)
 def test_correct_tier_is_correctly_rounded(func, fma):
-    r = ladder.score(routines.jit(func, "correct", fma=fma), func, "correct", _inputs(func))
-    assert r.misrounded == 0, r.examples
-    assert r.max_ulp <= 0.5 + 1e-9
+    tier_checks.assert_correctly_rounded(func, fma, _inputs(func))
 
 
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", NAMES)
 def test_faithful_tier_is_below_one_ulp(func, fma):
     """0.5 + 2^24 * 2^-30.6 ULP at most (the float64 value's error, module docstring)."""
-    r = ladder.score(routines.jit(func, "faithful", fma=fma), func, "faithful", _inputs(func))
-    assert r.max_ulp < 0.511, (r.max_ulp, r.max_ulp_at)
+    tier_checks.assert_faithful(func, fma, _inputs(func), 0.511)
 
 
 @pytest.mark.parametrize("func", NAMES)
@@ -115,18 +113,7 @@ def test_fma_off_emits_no_fused_operation():
 
 @pytest.mark.parametrize("func", NAMES)
 def test_the_same_bits_at_every_x86_level(func):
-    """Correctly rounded results are unique; the faithful tier uses no float64 FMA (the exact
-    products fuse where the target has FMA, with the same bits): the same code everywhere."""
-    x = _inputs(func)[::7].view(np.float32)
-    host = reactor.get_target("host").feature_set
-    for tier, fma in itertools.product(("faithful", "correct"), (True, False)):
-        want = routines.jit(func, tier, fma=fma)(x).view(np.uint32)
-        for target in ("avx2", "sse4"):
-            if target == "avx2" and "avx2" not in host:
-                continue
-            emulated = "emulate" if fma and target == "sse4" else fma
-            got = routines.jit(func, tier, fma=emulated, target=target)(x).view(np.uint32)
-            assert (got == want).all(), (func, tier, fma, target)
+    tier_checks.assert_the_same_bits_at_every_x86_level(func, _inputs(func)[::7])
 
 
 _DOUBLE = {"asin": inverse.asin_double, "acos": inverse.acos_double, "atan": inverse.atan_double}

@@ -11,10 +11,10 @@ import pytest
 
 import reactor
 import routines
+import tier_checks
 from reactor import Precision
 from routines import accurate_trig
 from routines.correct import ERROR
-from routines.lab import rounding as ladder
 
 FUNCS = ("sin", "cos", "tan")
 #: every 65537th bit pattern (all binades and signs)
@@ -61,16 +61,13 @@ def _inputs() -> np.ndarray:
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", FUNCS)
 def test_correct_tier_is_correctly_rounded(func, fma):
-    r = ladder.score(routines.jit(func, "correct", fma=fma), func, "correct", _inputs())
-    assert r.misrounded == 0, r.examples
-    assert r.max_ulp <= 0.5 + 1e-9
+    tier_checks.assert_correctly_rounded(func, fma, _inputs())
 
 
 @pytest.mark.parametrize("fma", [True, False])
 @pytest.mark.parametrize("func", FUNCS)
 def test_faithful_tier_is_below_one_ulp(func, fma):
-    r = ladder.score(routines.jit(func, "faithful", fma=fma), func, "faithful", _inputs())
-    assert r.max_ulp < 0.6, (r.max_ulp, r.max_ulp_at)   # bound: 0.5 + 2^24 * 2^-29.2 = 0.53
+    tier_checks.assert_faithful(func, fma, _inputs(), 0.6)   # bound: 0.5 + 2^24 * 2^-29.2 = 0.53
 
 
 SPECIALS = np.array([0x00000000, 0x80000000, 0x7F800000, 0xFF800000, 0x00000001, 0x80000001, 0x007FFFFF,
@@ -113,18 +110,7 @@ def test_fma_off_emits_no_fused_operation(func):
 
 @pytest.mark.parametrize("func", FUNCS)
 def test_the_same_bits_at_every_x86_level(func):
-    """Correctly rounded results are unique; the faithful tier rounds float64 multiplies and adds
-    (its fused reduction steps have exact products), so it too is the same everywhere, FMA on or off."""
-    x = np.concatenate([SAMPLE[::4], HARD[::8]]).view(np.float32)
-    host = reactor.get_target("host").feature_set
-    for tier in ("faithful", "correct"):
-        want = routines.jit(func, tier, fma=True)(x).view(np.uint32)
-        for target, fma in itertools.product(("host", "avx2", "sse4"), (True, False)):
-            if target == "avx2" and "avx2" not in host:
-                continue
-            fma = "emulate" if fma and target == "sse4" else fma
-            got = routines.jit(func, tier, fma=fma, target=target)(x).view(np.uint32)
-            assert (got == want).all(), (func, tier, fma, target)
+    tier_checks.assert_the_same_bits_at_every_x86_level(func, np.concatenate([SAMPLE[::4], HARD[::8]]))
 
 
 def test_the_widths_agree():
