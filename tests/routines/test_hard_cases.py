@@ -45,3 +45,12 @@ def test_a_stretch_of_inputs_has_every_hard_case_listed(func):
     assert (keys[at] == found[:, 0]).all() and (values[at] == found[:, 1]).all()
     listed = keys[(keys >= np.int32(start)) & (keys < np.int32(start + 2 ** 21))]
     assert listed.size == found.shape[0]
+
+
+@pytest.mark.parametrize("fma", [True, False])
+@pytest.mark.parametrize("func", FUNCS)
+def test_the_correct_tier_gives_every_listed_result(func, fma):
+    import routines
+    keys, values = table(func)
+    got = routines.jit(func, "correct", fma=fma)(keys.view(np.float32))
+    assert (got.view(np.int32) == values).all(), keys[got.view(np.int32) != values][:5]
