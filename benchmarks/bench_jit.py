@@ -10,8 +10,9 @@
    * recipe hit: a different Python function object with the same code and
      values (not traced: its recipe key finds the object);
    * disk hit: a fresh subprocess builds kernels whose objects are on disk
-     (import time reported separately; the first build there also pays the
-     one-time LLVM/JIT initialisation, reported separately too).
+     (import time reported separately; the first build there also pays what the
+     import's warm-up thread has not yet done of the one-time LLVM/JIT start-up,
+     reported separately too: it must meet the same 5 ms).
 2. Kernel call overhead against ``np.negative`` at 1 and 1024 elements.
 3. Throughput of ``x*y+z`` against NumPy (``multiply`` then ``add``, both with
    ``out=``) at 64K and 16M float32 elements, best of N.
@@ -37,6 +38,7 @@ TARGETS = {  # name -> (limit, unit); a figure passes when it is <= limit
     "cold_ms": (12.0, "ms"),
     "memo_hit_ms": (0.1, "ms"),
     "disk_hit_ms": (5.0, "ms"),
+    "disk_first_build_ms": (5.0, "ms"),
     "overhead_ratio_1": (1.5, "x"),
     "overhead_ratio_1024": (1.5, "x"),
 }
@@ -243,7 +245,8 @@ def report(r: dict, env: dict) -> str:
         _row("memory hit (kernel(body) memo), median", r["memo_hit_ms"], "ms", "memo_hit_ms"),
         _row("recipe hit (new function object, same code)", r["ir_cache_hit_ms"], "ms"),
         _row("disk hit in a fresh process, median", r["disk_hit_ms"], "ms", "disk_hit_ms"),
-        _row("  first build there (+ one-time LLVM/JIT init)", r["disk_first_build_ms"], "ms"),
+        _row("  first build there (+ the start-up the warm-up left)", r["disk_first_build_ms"], "ms",
+             "disk_first_build_ms"),
         _row("  'import numpy, reactor' there", r["import_ms"], "ms"),
         "", "call overhead (out= given) vs np.negative:",
     ]

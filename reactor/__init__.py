@@ -19,6 +19,9 @@ each at widths 1, 4, 8 and 16 (``Float4`` ...), and GLSL's vectors and matrices 
 import typing as _typing
 
 from .build import SHADER_TIERS, Build, BuildOptions, Precision, Site, options
+from .kernels import parallel as _parallel
+
+_parallel.warm_up()  # the JIT's one-time start-up on a thread, beside the rest of the import
 from .dsl.control import Break, Continue, Elif, Else, For, If, Return, While
 from .dsl.external import External
 from .dsl.intrinsics import (

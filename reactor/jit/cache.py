@@ -21,6 +21,7 @@ first. ``python -m reactor cache info|clear`` shows and empties it.
 from __future__ import annotations
 
 import collections
+import contextlib
 import hashlib
 import hmac
 import json
@@ -94,8 +95,25 @@ _warned: set = set()
 _secrets: "dict[tuple, bytes]" = {}
 
 
+_quiet = threading.local()
+
+
+@contextlib.contextmanager
+def quietly():
+    """Warn of nothing on this thread (the import's background warm-up: its warnings would come
+    from no line of the user's, and outside any ``catch_warnings`` of theirs); what it would
+    have said is said by the next use on another thread, which meets the same state."""
+    _quiet.on = True
+    try:
+        yield
+    finally:
+        _quiet.on = False
+
+
 def _warn(message: str) -> None:
     """One warning per message and process (a distrusted cache is not news at every compile)."""
+    if getattr(_quiet, "on", False):
+        return
     if message not in _warned:
         _warned.add(message)
         warnings.warn(message, CacheWarning, stacklevel=4)
@@ -251,8 +269,9 @@ def disk_remove(key: str, suffix: str, why: str) -> None:
     if path is None:
         return
     _remove(path)
-    warnings.warn(f"reactor: removed the cache entry {path} ({why}); it is compiled again",
-                  CacheWarning, stacklevel=3)
+    if not getattr(_quiet, "on", False):
+        warnings.warn(f"reactor: removed the cache entry {path} ({why}); it is compiled again",
+                      CacheWarning, stacklevel=3)
 
 
 def _entries(root: str) -> list[tuple[float, int, str]]:

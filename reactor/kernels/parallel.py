@@ -258,12 +258,26 @@ RUNTIME_EXPORTS = (abi.PARALLEL_FOR.name, abi.PREPARE.name, abi.RAISE.name, abi.
                    abi.DISPATCH.name)
 
 
-@functools.cache
+_runtimes: dict[str, CompiledCode] = {}
+_runtime_lock = threading.Lock()  # one build per target: every kernel's config points into it
+
+
 def runtime(target: str = "host") -> CompiledCode:
     """The compiled runtime (built once per process and target, cached on disk):
     ``reactor_parallel_for`` and ``reactor_prepare`` (every kernel's layout decisions, kept out
     of each kernel's code). The host's is loaded into this process; another target's is object
-    code to link elsewhere (``reactor.kernels.qemu``)."""
+    code to link elsewhere (``reactor.kernels.qemu``). Thread-safe: the import's warm-up
+    (:func:`warm_up`) and a first build may ask at once."""
+    code = _runtimes.get(target)
+    if code is None:
+        with _runtime_lock:
+            code = _runtimes.get(target)
+            if code is None:
+                code = _runtimes[target] = _load_runtime(target)
+    return code
+
+
+def _load_runtime(target: str) -> CompiledCode:
     build = BuildOptions(target=target, width=1).resolved()
 
     def ir_text() -> str:
@@ -286,6 +300,39 @@ def runtime(target: str = "host") -> CompiledCode:
     code = CompiledCode(ir_text(), build.target, build.opt, RUNTIME_EXPORTS, build.cache)
     cache.recipe_put(recipe, {"ir_key": code.key}, build.cache)
     return code
+
+
+_warm_up: threading.Thread | None = None
+
+
+def warm_up() -> None:
+    """Start the process's one-time JIT start-up (LLVM's native target, the JIT, the runtime
+    from the disk cache: ~4-5 ms) on a background thread, so that it overlaps the rest of the
+    import and the caller's own work, and the first kernel pays only its own build. LLVM runs
+    with the interpreter lock released. A fork or the interpreter's exit waits for it first
+    (``REACTOR_WARMUP=0``: no thread, the first build pays the start-up)."""
+    global _warm_up
+    if _warm_up is not None or os.environ.get("REACTOR_WARMUP", "1") == "0":
+        return
+    _warm_up = threading.Thread(target=_start_up, name="reactor-warm-up", daemon=True)
+    _warm_up.start()
+
+
+def _start_up() -> None:
+    try:
+        with cache.quietly():
+            _runtime_addresses()
+    except Exception:  # noqa: BLE001 - the first build meets the same error and reports it
+        pass
+
+
+def _join_warm_up() -> None:
+    if _warm_up is not None and _warm_up is not threading.current_thread():
+        _warm_up.join()
+
+
+os.register_at_fork(before=_join_warm_up)
+atexit.register(_join_warm_up)
 
 
 def _emit_raise(module) -> None:
