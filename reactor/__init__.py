@@ -18,7 +18,7 @@ each at widths 1, 4, 8 and 16 (``Float4`` ...), and GLSL's vectors and matrices 
 """
 import typing as _typing
 
-from .build import SHADER_TIERS, Build, BuildOptions, Precision, Site, options
+from .build import SHADER_TIERS, Build, BuildOptions, Precision, Site, options, register_variants, split_precision
 from .kernels import parallel as _parallel
 
 _parallel.warm_up()  # the JIT's one-time start-up on a thread, beside the rest of the import
@@ -92,7 +92,7 @@ __all__ = [
     # functions, kernels, threads
     "Function", "function", "Module", "CompiledModule", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
     "configure_threads", "thread_settings", "configure_tiers", "finish_tiers", "RoutineCall", "routine_call", "pure_call", "site_choice", "explain",
-    "plan", "Plan", "PlanStaleError", "Range", "Rows", "flow", "hint", "syntax", "from_glsl", "from_spirv", "set_glsl_builtins",
+    "plan", "Plan", "PlanStaleError", "Range", "Rows", "register_variants", "split_precision", "flow", "hint", "syntax", "from_glsl", "from_spirv", "set_glsl_builtins",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",
     "MissingReturnError", "ArityError", "ArgumentError", "FmaDisabledError", "CompileError", "hide_frames_of",

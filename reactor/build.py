@@ -55,6 +55,32 @@ class Precision(str, enum.Enum):
 #: The tiers every math built-in has (Vulkan's), least accurate first: what a shader plans among.
 SHADER_TIERS = (Precision.RELAXED.value, Precision.FULL.value)
 
+#: The precision continuum (``routines.continuum``): per routine, its variants below a tier
+#: (``"full-d3"``: full's form with a degree-3 polynomial), cheapest first. Registered by the
+#: library that builds the routine; a plan's site may name one, as may a call's ``precision=``.
+VARIANTS: dict[str, tuple[str, ...]] = {}
+
+
+def register_variants(routine: str, names: typing.Iterable[str]) -> None:
+    """Declare the continuum variants ``routine`` can be built in (``"full-d3"`` ...), cheapest first."""
+    for name in names:
+        split_precision(name)  # a tier, a dash, the variant
+    VARIANTS[routine] = tuple(names)
+
+
+def split_precision(value, routine: str | None = None) -> tuple[Precision, str | None]:
+    """``value`` as (tier, variant): ``"full"`` is (FULL, None), ``"full-d3"`` (FULL, "d3"); with
+    ``routine`` (once its library registered it), a variant it does not have is a clear error
+    listing those it has."""
+    if isinstance(value, str) and "-" in value:
+        tier, variant = value.split("-", 1)
+        level = Precision.of(tier)
+        if routine is not None and routine in VARIANTS and value not in VARIANTS[routine]:
+            known = ", ".join(repr(v) for v in VARIANTS.get(routine, ())) or "none"
+            raise ReactorError(f"{routine} has no precision variant {value!r}; its variants are {known}")
+        return level, variant
+    return Precision.of(value), None
+
 _GLSL_QUALIFIERS = {"highp": "full", "mediump": "relaxed", "lowp": "relaxed"}
 
 
@@ -62,8 +88,8 @@ _GLSL_QUALIFIERS = {"highp": "full", "mediump": "relaxed", "lowp": "relaxed"}
 class Site:
     """One routine call site's settings, chosen by a plan (``reactor.plan``): the routine
     ``routine`` emitted from the user's line ``where`` ("file:line", as ``RoutineCall.where``)
-    is built at ``precision`` with FMA ``fma`` (None: the build's), whatever the build's or
-    the call's own setting."""
+    is built at ``precision`` (a tier, or a continuum variant below one: ``"full-d3"``) with FMA
+    ``fma`` (None: the build's), whatever the build's or the call's own setting."""
 
     where: str
     routine: str
@@ -71,7 +97,8 @@ class Site:
     fma: bool | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "precision", Precision.of(self.precision).value)
+        level, variant = split_precision(self.precision, self.routine if "-" in str(self.precision) else None)
+        object.__setattr__(self, "precision", level.value + (f"-{variant}" if variant else ""))
 
 
 def _sites(value) -> tuple[Site, ...]:

@@ -11,7 +11,8 @@ variant's output bits, to prove a change left them alone), crosstarget (every
 variant's output bits on each target, aarch64 under qemu, against the host's), dump (the IR or
 assembly of a routine's kernel), pixels (prove the sRGB8 encode exact, time it), ladder (the
 faithful and correct tiers against a correctly rounded reference, every input with --exhaustive),
-hardcases (the correct tier's tables of inputs near a rounding boundary). ``python -m routines COMMAND --help`` tells more.
+hardcases (the correct tier's tables of inputs near a rounding boundary), continuum (the
+variants between relaxed and full, their error and cost). ``python -m routines COMMAND --help`` tells more.
 
 Exit status: 0 done, 1 a finding (a variant does not conform, fingerprints
 differ), 2 a usage error, 130 interrupted.
@@ -36,6 +37,7 @@ COMMANDS = {
     "pixels": "routines.cli.pixels",
     "ladder": "routines.cli.ladder",
     "hardcases": "routines.cli.hardcases",
+    "continuum": "routines.cli.continuum",
 }
 #: what the laboratory needs beyond the library (the ``lab`` extra)
 LAB_DEPENDENCIES = ("mpmath", "tqdm", "matplotlib")

@@ -16,6 +16,9 @@ import typing
 
 import reactor
 from reactor import SHADER_TIERS, As, DSLTypeError, Float, Precision, Value, fma_mode
+from reactor import split_precision
+
+from . import continuum
 
 reactor.hide_frames_of(os.path.dirname(__file__))  # errors point at the caller's line
 
@@ -94,14 +97,27 @@ def routine(fn: typing.Callable[..., Value]) -> Builder:
         chosen = reactor.site_choice(fn.__name__)  # a plan's choice for this call site wins
         if chosen is not None:
             precision, fma = chosen.precision, chosen.fma if chosen.fma is not None else fma
+        precision, variant = variant_of(precision, fn.__name__)
         level = check_tier(check_precision(precision, fn.__name__), fn.__name__)
         def emit() -> Value:
-            with reactor.routine_call(fn.__name__):
+            with reactor.routine_call(fn.__name__, variant), continuum.using(fn.__name__, variant):
                 return fn(*args, precision=level, **kwargs)
         with fma_mode(fma), reactor.precision(level):
-            return reactor.pure_call(fn.__name__, (level.value, fma), args, kwargs, emit)
+            return reactor.pure_call(fn.__name__, (level.value, variant, fma), args, kwargs, emit)
 
     return typing.cast(Builder, build)
+
+
+def variant_of(precision, routine: str) -> tuple[typing.Any, str | None]:
+    """(the tier, the continuum variant's name or None) of a ``precision`` that may name one
+    (``"full-d3"``, see ``routines.continuum``); a clear error for a variant ``routine`` has not."""
+    if isinstance(precision, str) and "-" in precision:
+        level, _ = split_precision(precision, routine)
+        if routine not in continuum.VARIANTS:
+            raise reactor.ReactorError(f"{routine} has no precision variants; its precisions are "
+                                       + ", ".join(repr(p) for p in tiers(routine)))
+        return level, precision
+    return precision, None
 
 
 _MIN_NORMAL_BITS, _INF_BITS = 0x00800000, 0x7F800000

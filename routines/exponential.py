@@ -48,9 +48,9 @@ from reactor import (
     Variable, fma_mode, target_features, vector_type,
 )
 
-from . import accurate
+from . import accurate, continuum
 from .base import float_value, routine
-from .polynomials import EXP2_FULL, EXP2_RELAXED
+from .polynomials import EXP2_RELAXED
 
 LOG2_E = 1.4426950408889634  # rounded to float32 where used: 0x3FB8AA3B
 MANTISSA_SCALE = float(2 ** 23)
@@ -98,7 +98,9 @@ def reduce_down(x):
 
 
 def _full(x):
-    """Full precision: the ``rscalef`` form of the module docstring."""
+    """Full precision: the ``rscalef`` form of the module docstring (its polynomial of lower degree
+    in a continuum variant, ``routines.continuum``)."""
+    EXP2_FULL = continuum.polynomial("exp2")
     if "avx512f" in target_features():                     # VREDUCEPS (or its emulation) + VSCALEFPS
         f = ReduceNearest(x)
         return ScaleF(MulAdd(EXP2_FULL(f), f, f) + 1.0, x - f)

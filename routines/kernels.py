@@ -10,7 +10,7 @@ from . import logarithm as _log2
 from . import power as _power
 from . import reciprocal as _recip
 from . import trig as _trig
-from .base import check_precision
+from .base import check_precision, variant_of
 
 UNARY = {
     "exp2": _exp2.exp2, "exp": _exp2.exp, "log2": _log2.log2, "log": _log2.log,
@@ -37,31 +37,33 @@ def jit(name: str, precision="full", fma: bool | str | None = None, width: int |
     16 lanes, target host (znver4), float32"."""
     if name not in NAMES:
         raise ReactorError(f"unknown routine {name!r}; choose one of {', '.join(NAMES)}")
-    level = check_precision(precision, name)
+    tier, variant = variant_of(precision, name)  # "full-d3": a continuum variant (routines.continuum)
+    level = check_precision(tier, name)
     with options(fma=fma, width=width, target=target):
         build = build_settings()
     fused = "emulate" if build.fma and not build.target.has_fma else build.fma  # never libm's fmaf
-    return _build(name, level, fused, build.width, build.target.name, width is not None)
+    return _build(name, level, fused, build.width, build.target.name, width is not None, variant)
 
 
 @functools.lru_cache(maxsize=None)
-def _build(name, precision, fma, width, target, tag_width):
-    tag = f"{name}_{precision.value}_{'fma' if fma else 'nofma'}" + (f"_w{width}" if tag_width else "")
+def _build(name, precision, fma, width, target, tag_width, variant=None):
+    asked = variant or precision.value
+    tag = f"{name}_{asked.replace('-', '_')}_{'fma' if fma else 'nofma'}" + (f"_w{width}" if tag_width else "")
     where = get_target(target)
     fused = "emulated in software" if fma == "emulate" else "on" if fma else "off"
-    doc = (f"{name}, {precision.value} precision, FMA {fused}, {width} lane{'s' * (width > 1)}, "
+    doc = (f"{name}, {asked} precision, FMA {fused}, {width} lane{'s' * (width > 1)}, "
            f"target {target} ({where.cpu}). float32 only: NumPy refuses a float64 array under its default "
            f"casting; compute one in float32 with dtype=np.float32, casting='same_kind'.")
     builder = BINARY[name] if name in BINARY else UNARY[name]  # the body reads only keyable values
 
     def binary(x: Float, y: Float) -> Float:
-        return builder(x, y, precision=precision)
+        return builder(x, y, precision=asked)
 
     def unary(x: Float) -> Float:
-        return builder(x, precision=precision)
+        return builder(x, precision=asked)
 
     body = binary if name in BINARY else unary
     body.__doc__ = doc
     u = kernel(body, name=tag, fma=fma, width=width, target=target, precision=precision.value)
     # pickled as this call: rebuilt on the other side for its CPU (its natural width unless one was asked)
-    return travels_as(u, jit, name, precision.value, fma, width if tag_width else None, target)
+    return travels_as(u, jit, name, asked, fma, width if tag_width else None, target)

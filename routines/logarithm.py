@@ -38,16 +38,17 @@ from reactor import (
     vector_type,
 )
 
-from . import accurate
+from . import accurate, continuum
 from .base import float_value, positive_normal, routine
-from .polynomials import LOG2_FULL, LOG2_RELAXED
+from .polynomials import LOG2_RELAXED
 
 LN_2 = 0.6931471805599453
 
 
 def _full(e_half, u):
-    """Full precision from e + 1/2 and u = m - 1/2 (both exact)."""
-    return MulAdd(LOG2_FULL(u), MulAdd(-u, u, 0.25), u) + e_half
+    """Full precision from e + 1/2 and u = m - 1/2 (both exact); a continuum variant's polynomial
+    of lower degree where one is in force (``routines.continuum``)."""
+    return MulAdd(continuum.polynomial("log2")(u), MulAdd(-u, u, 0.25), u) + e_half
 
 
 def _relaxed(e, m):

@@ -9,7 +9,7 @@ domain (exhaustive: every row is checked), and the same run times every all-one-
 plan. Writes ``DIR/plans.json`` (every plan
 as data), ``DIR/chart.png`` (per scene: modelled cost against outputs changed) and prints a table.
 
-Scenes (the first three are here; the others are the ports in examples/shaders, their inputs the
+Scenes (the first four are here; the others are the ports in examples/shaders, their inputs the
 scene's pixels, so "exhaustive" means: every pixel of that render):
 
 * ``srgb_blit``: an 8-bit sRGB texture drawn into an sRGB render target through linear light
@@ -18,6 +18,8 @@ scene's pixels, so "exhaustive" means: every pixel of that render):
   stops, Reinhard, sRGB-encoded; unorm8 and unorm10.
 * ``linear_half``: an 8-bit sRGB texture converted to a linear half-float target; float16, unorm16
   and unorm8.
+* ``gamma_exposure``: an 8-bit gamma-2.2 value decoded, exposed by -2 to +2 stops (an 8-bit
+  control), clipped and encoded again: every unorm8 x unorm8 pair; unorm8 and unorm10.
 * ``tonemap`` (three.js ACES + AgX + sRGB OETF on an HDR chart), ``gltf_pbr`` (glTF viewer GGX),
   ``raymarch`` (sphere tracer with soft shadows and reflections): unorm8 and one wider format.
 """
@@ -35,7 +37,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "shaders"))
 
 import reactor  # noqa: E402
-from reactor import Float, Rows, Select, kernel  # noqa: E402
+from reactor import Float, Min, Rows, Select, kernel  # noqa: E402
 from routines import glsl as gl  # noqa: E402
 
 DEFAULT_OUT = os.path.join("out", "examples", "plan")
@@ -64,6 +66,12 @@ def exposure(x: Float, stops: Float) -> Float:
 @kernel
 def linear_half(c: Float) -> Float:
     return srgb_decode(c)
+
+
+@kernel
+def gamma_exposure(c: Float, s: Float) -> Float:
+    v = gl.pow(c, 2.2) * gl.exp2(s * 4.0 - 2.0)  # decode gamma 2.2, expose by -2..+2 stops
+    return gl.pow(Min(v, 1.0), 1.0 / 2.2)          # clip, encode gamma 1/2.2
 # --- DSL end
 
 
@@ -89,7 +97,8 @@ def scenes(size: int) -> list[tuple[str, object, dict, list, int]]:
              ("raymarch", ["unorm8", "unorm16"], 1 << 16)]
     found = [("srgb_blit", srgb_blit, {"c": "unorm8"}, ["unorm8", "unorm10"], 1 << 20),
              ("exposure", exposure, {"x": "float16", "stops": STOPS}, ["unorm8", "unorm10"], 1 << 20),
-             ("linear_half", linear_half, {"c": "unorm8"}, ["float16", "unorm16", "unorm8"], 1 << 20)]
+             ("linear_half", linear_half, {"c": "unorm8"}, ["float16", "unorm16", "unorm8"], 1 << 20),
+             ("gamma_exposure", gamma_exposure, {"c": "unorm8", "s": "unorm8"}, ["unorm8", "unorm10"], 1 << 20)]
     for name, formats, timing in ports:
         port_size = size if name != "raymarch" else size // 2
         u, inputs = _port(name, port_size)
@@ -116,15 +125,16 @@ def run(size: int = 128, only=None) -> dict:
 def table(r: dict) -> str:
     """One row per (scene, format): the sites at each tier, what all-relaxed and all-full change
     against the correctly rounded reference, and the plan's speed against all-full and all-correct."""
-    rows = [f"{'scene':<12} {'format':<8} {'proof':<11} {'rows':>10} {'sites':>5} {'relaxed':>7} {'full':>4} "
-            f"{'above':>5} {'relaxed: changed':>16} {'full: changed':>13} {'plan: changed':>13} {'model x':>7} "
-            f"{'timed x':>7} {'x correct':>9} {'plan s':>6}"]
+    rows = [f"{'scene':<14} {'format':<8} {'proof':<11} {'rows':>10} {'sites':>5} {'relaxed':>7} {'between':>7} "
+            f"{'full':>4} {'above':>5} {'relaxed: changed':>16} {'full: changed':>13} {'plan: changed':>13} "
+            f"{'model x':>7} {'timed x':>7} {'x correct':>9} {'plan s':>6}"]
     for x in r["results"]:
         p = x["plan"]
         tiers = [s["tier"] for s in p["reports"]]
-        rows.append(f"{x['scene']:<12} {x['format']:<8} {p['proof']:<11} {p['checked']:>10,} {len(tiers):>5} "
-                    f"{tiers.count('relaxed'):>7} {tiers.count('full'):>4} "
-                    f"{len(tiers) - tiers.count('relaxed') - tiers.count('full'):>5} "
+        between = sum(t.startswith("full-") for t in tiers)  # the continuum's variants
+        rows.append(f"{x['scene']:<14} {x['format']:<8} {p['proof']:<11} {p['checked']:>10,} {len(tiers):>5} "
+                    f"{tiers.count('relaxed'):>7} {between:>7} {tiers.count('full'):>4} "
+                    f"{len(tiers) - tiers.count('relaxed') - tiers.count('full') - between:>5} "
                     f"{p['changes']['all relaxed']:>16,} {p['changes']['all full']:>13,} {p['changes']['plan']:>13,} "
                     f"{x['model_speedup']:>7.2f} {x['speedup']:>7.2f} {x['speedup_correct']:>9.2f} "
                     f"{p['seconds']:>6.1f}")

@@ -21,7 +21,7 @@ class RoutineCall:
     """One routine emitted by a build: ``exp2 relaxed fma=on at shade.py:12``."""
 
     name: str
-    precision: str  # "full" or "relaxed"
+    precision: str  # a tier ("full", "relaxed" ...) or a continuum variant ("full-d3")
     fma: bool
     where: str  # the user's "file:line" ("" when unknown)
 
@@ -31,9 +31,10 @@ class RoutineCall:
 
 
 @contextlib.contextmanager
-def routine_call(name: str) -> typing.Iterator[None]:
-    """Emit a library routine ``name`` in the block: recorded with the settings in force, unless
-    it is inside another routine (pow's exp2 and log2 belong to pow). No-op outside a build."""
+def routine_call(name: str, variant: str | None = None) -> typing.Iterator[None]:
+    """Emit a library routine ``name`` in the block: recorded with the settings in force (its
+    precision as the continuum ``variant``'s name where one is given: ``"full-d3"``), unless it
+    is inside another routine (pow's exp2 and log2 belong to pow). No-op outside a build."""
     if not _em.building():
         yield
         return
@@ -42,7 +43,8 @@ def routine_call(name: str) -> typing.Iterator[None]:
     depth = module.routine_depth
     if depth == 0:
         settings = em.settings
-        call = RoutineCall(name, settings.precision.value, settings.fma, where_called())
+        precision = variant or settings.precision.value
+        call = RoutineCall(name, precision, settings.fma, where_called())
         if call not in module.routine_calls:
             module.routine_calls.append(call)
     module.routine_depth = depth + 1

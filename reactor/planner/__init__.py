@@ -53,7 +53,7 @@ class SiteReport:
 
     def text(self) -> str:
         saved = f"{self.saving:+.2f}" if self.saving else "     "
-        head = f"{self.routine:<6} {_short(self.where):<22} {self.tier:<8} {saved:>6}"
+        head = f"{self.routine:<6} {_short(self.where):<22} {self.tier:<10} {saved:>6}"
         if self.below is None:
             line = head + "  (the cheapest tier)"
         else:
@@ -92,7 +92,7 @@ class Plan:
     def __str__(self) -> str:
         lines = [f"plan for {self.kernel}: output {Output(self.output).name}, {self.proof} over {self.domain}",
                  f"  ({self.checked:,} rows checked; {self.builds} builds, {self.seconds:.1f} s)"]
-        lines.append(f"  {'site':<6} {'':<22} {'tier':<8} {'saves':>6}  the tier below (saves: modelled "
+        lines.append(f"  {'site':<6} {'':<22} {'tier':<10} {'saves':>6}  the tier below (saves: modelled "
                      f"cycles/element, this site alone)")
         lines += ["  " + r.text() for r in self.reports]
         lines.append(f"  {'build':<14} {'changes':>9} {'cycles/el':>10} {'ms':>9}")

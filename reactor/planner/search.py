@@ -1,5 +1,9 @@
 """The search: the cheapest tier per routine call site that leaves the scene's output unchanged.
 
+A site's choices are its routine's ``ladder``: relaxed, the precision continuum's variants
+(``routines.continuum``: full's form with polynomials of lower degree, ``full-d3``), full,
+faithful and correct. "Tier" below means any point of it.
+
 1. **Reference**: the kernel built with every routine at the most accurate tier (the last of
    ``reactor.Precision``: correctly rounded), run on the check rows (``domains.py``); its stored output
    (``outputs.py``) is what every candidate must reproduce exactly.
@@ -7,9 +11,11 @@
    and the user's file:line; a built-in such as ``normalize`` counts through the routine it calls).
 3. **Alone**: each site at each cheaper tier, the others at the reference's: the outputs it
    changes, and its modelled cost (cycles per element, from the dataflow model, ``reactor.cost``).
-4. **Together**: sites that changed nothing alone are lowered one by one, the largest saving
-   first, each kept only if the combination still changes nothing (two harmless changes can
-   add up to a changed code).
+4. **Together**: every site starts at its least accurate tier from full up that changed nothing
+   alone (if that combination changes nothing), then sites are lowered one by one below it, the
+   largest saving first, each to its cheapest harmless point (by modelled cost), kept only if the
+   combination still changes nothing (two harmless changes can add up to a changed code); else
+   its next cheapest harmless points are tried.
 5. **Sample domains**: when the check is a sample, the rows whose reference output is closest to
    a rounding boundary are searched around (neighbouring float32 inputs, ``_neighbours``) and added
    to the check before step 3, and the final plan is checked on a second, fresh sample.
@@ -23,7 +29,7 @@ import typing
 
 import numpy as np
 
-from ..build import Precision, Site
+from ..build import VARIANTS, Precision, Site
 from ..cost.model import kernel_cycles
 from ..errors import ReactorError
 from .domains import Check, rows_to_check
@@ -32,8 +38,15 @@ from .outputs import Output, changed_rows, row_margin
 #: least to most accurate: Vulkan's relaxed and full, then faithful and correct, which every routine
 #: has (a routine without a tier would be skipped at it); the reference is the last
 TIERS = tuple(p.value for p in Precision)
+
+
+def ladder(routine: str) -> tuple[str, ...]:
+    """What a site of ``routine`` may be built at, least accurate first: relaxed, the continuum's
+    variants between relaxed and full (``routines.continuum``: ``full-d3`` ...), then the tiers."""
+    return (TIERS[0], *VARIANTS.get(routine, ()), *TIERS[1:])
 WORST_ROWS = 2048  # rows around which a sampled check searches
 NEIGHBOURS = 16  # float32 steps on each side of each of them
+TRIES = 3  # harmless points a site tries, cheapest first, beside the sites lowered before it
 
 
 class Candidate(typing.NamedTuple):
@@ -145,11 +158,12 @@ class Search:
         self.ref_out = self.run(self.reference.ufunc, self.check)
 
     def alone(self) -> dict:
-        """Per site: [(tier, Candidate)] for each tier below the reference's, cheapest first."""
+        """Per site: [(tier, Candidate)] for each tier and continuum variant below the reference's
+        (``ladder``), least accurate first."""
         found = {}
         for where, routine in self.sites:
             rows = []
-            for tier in TIERS[:-1]:
+            for tier in ladder(routine)[:-1]:
                 try:
                     cand = self.build((Site(where, routine, tier, self.fma),), self.top)
                 except ReactorError as exc:  # a routine without that tier
@@ -176,41 +190,63 @@ class Search:
                                                  if (w, r) not in given)))
 
     def together(self, alone: dict) -> tuple[tuple, Candidate]:
-        """Lower the harmless sites one by one (largest saving first), keeping what stays exact."""
-        options = []
+        """The plan: every site first at its least accurate tier from full up that changed nothing
+        alone (full where full is enough: the savings of the tiers), if that combination changes
+        nothing (else every site at the reference); then the sites are lowered one by one below
+        that, the largest saving first, each to its cheapest harmless point (by modelled cost),
+        kept only if the combination still changes nothing (two harmless changes can add up to a
+        changed code); a site whose point fails beside the others tries its next ones (``TRIES``)."""
+        base = {}
         for site, rows in alone.items():
-            for tier, cand in rows:
-                if cand.changed == 0:
-                    options.append((self.reference.cycles - cand.cycles, site, tier))
-                    break  # the cheapest harmless tier of this site
+            upper = [tier for tier, cand in rows if cand.changed == 0 and tier in TIERS[1:]]
+            if upper:
+                base[site] = upper[0]
         chosen: dict = {}
         best = self.reference._replace(changed=0)
-        for saving, (where, routine), tier in sorted(options, key=lambda o: -o[0]):
-            trial = dict(chosen)
-            trial[(where, routine)] = tier
-            cand = self.compare(self.build(_site_tuple(trial, self.fma), self.top))
-            self.log(f"  + {routine} at {_short(where)} {tier}: changes {cand.changed:,}, "
-                     f"{cand.cycles:.2f} cycles/element")
-            # kept only if it changes the machine code (where a tier is the same code on this target,
-            # e.g. rsqrt without AVX-512's estimate, lowering it would claim a saving there is not)
-            if cand.changed == 0 and cand.cycles <= best.cycles + 1e-9 and _code(cand) != _code(best):
-                chosen, best = trial, cand
-        return _site_tuple(chosen, self.fma), best
+        if base:
+            cand = self.compare(self.build(_site_tuple(base, self.fma), self.top))
+            self.log(f"  every site from full up: changes {cand.changed:,}, {cand.cycles:.2f} cycles/element")
+            if cand.changed == 0:
+                chosen, best = dict(base), cand
+        options = []
+        for site, rows in alone.items():
+            cycles = {tier: cand.cycles for tier, cand in rows}
+            start = cycles.get(chosen.get(site), self.reference.cycles)
+            lower = sorted((cand.cycles, i, tier) for i, (tier, cand) in enumerate(rows)
+                           if cand.changed == 0 and cand.cycles < start)
+            if lower:  # cheapest first (the least accurate of equals)
+                options.append((start - lower[0][0], site, [t for _, _, t in lower]))
+        for _, (where, routine), tiers in sorted(options, key=lambda o: -o[0]):
+            for tier in tiers[:TRIES]:
+                trial = dict(chosen)
+                trial[(where, routine)] = tier
+                cand = self.compare(self.build(_site_tuple(trial, self.fma), self.top))
+                self.log(f"  + {routine} at {_short(where)} {tier}: changes {cand.changed:,}, "
+                         f"{cand.cycles:.2f} cycles/element")
+                # kept only if it changes the machine code (where a tier is the same code on this target,
+                # e.g. rsqrt without AVX-512's estimate, lowering it would claim a saving there is not)
+                if cand.changed == 0 and cand.cycles <= best.cycles + 1e-9:
+                    if _code(cand) != _code(best):
+                        chosen, best = trial, cand
+                    break
+        return _site_tuple({k: v for k, v in chosen.items() if v != self.top}, self.fma), best
 
     def below(self, sites: tuple) -> dict:
-        """For each site not at the cheapest tier: the plan with it one tier lower, compared."""
+        """For each site not at the least accurate point of its ``ladder``: the plan with it one
+        point lower, compared."""
         chosen = {(s.where, s.routine): s.precision for s in sites}
         report: dict[tuple, tuple[str, Candidate] | None] = {}
         for where, routine in self.sites:
             tier = chosen.get((where, routine), self.top)
-            index = TIERS.index(tier)
+            steps = ladder(routine)
+            index = steps.index(tier)
             if index == 0:
                 report[(where, routine)] = None
                 continue
             trial = dict(chosen)
-            trial[(where, routine)] = TIERS[index - 1]
+            trial[(where, routine)] = steps[index - 1]
             try:
-                report[(where, routine)] = (TIERS[index - 1],
+                report[(where, routine)] = (steps[index - 1],
                                             self.compare(self.build(_site_tuple(trial, self.fma), self.top)))
             except ReactorError:
                 report[(where, routine)] = None

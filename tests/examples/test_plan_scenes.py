@@ -33,7 +33,11 @@ def test_scenes_plan_with_no_change(tmp_path):
     assert blit["cycles"]["plan"] < blit["cycles"]["all full"]
     assert by[("srgb_blit", "unorm10")]["plan"]["changes"]["all relaxed"] > 0
     exposure = {s["routine"]: s["tier"] for s in by[("exposure", "unorm8")]["plan"]["reports"]}
-    assert exposure == {"exp2": "relaxed", "pow": "full"}  # whole stops: exp2 exact at every tier
+    # whole stops: exp2 is exact at every point, so it takes the cheapest on this host's model (relaxed, or
+    # the continuum's degree-2 full form); the gamma pow goes at most to full, and below it in the continuum
+    # where no stored code changes
+    assert exposure["exp2"] in ("relaxed", "full-d2")
+    assert exposure["pow"] == "full" or exposure["pow"].startswith("full-")
     assert np.isfinite(by[("gltf_pbr", "unorm8")]["speedup"])
     half16 = by[("linear_half", "unorm16")]["plan"]        # full changes one unorm16 code: raised
     assert half16["changes"]["all full"] > 0 and [s["tier"] for s in half16["reports"]] == ["faithful"]

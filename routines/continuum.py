@@ -1,0 +1,112 @@
+"""The precision continuum: variants of exp2 and log2 (and so of exp, log and pow) between the tiers.
+
+A variant keeps full precision's form (docs/search.md: ``rscalef`` for exp2, ``m1mc`` for log2:
+the same reduction, the same exact scaling and every special value as full) and evaluates a
+polynomial of lower degree, fitted by our Remez fitter on full's interval with full's weight.
+Each degree removes one FMA from the routine's dependency chain. ``reactor.plan`` tries them at
+every call site, between ``relaxed`` and ``full``, and keeps the cheapest whose stored outputs
+are those of the most accurate build (docs/plan.md); a call may also ask for one itself:
+``routines.exp2(x, precision="full-d3")``.
+
+Names: ``full-dN`` for exp2, exp, log2 and log (the polynomial's degree; full itself is d5 for
+exp2 and d6 for log2), ``full-eAlB`` for pow (exp2's degree A, log2's degree B). Each polynomial
+below states its fit and the error measured on the compiled routine over a stated domain
+(``python -m routines continuum`` measures them all again, with their modelled and timed cost).
+"""
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import itertools
+import typing
+
+from reactor import register_variants
+
+from .polynomials import EXP2_FULL, LOG2_FULL, Polynomial
+
+
+def _fit(name: str, base: Polynomial, coefficients: tuple[str, ...], weighted: str, measured: str) -> Polynomial:
+    degree = len(coefficients) - 1
+    lo, hi = base.interval
+    return Polynomial(
+        name=name, function=base.function, weight=base.weight, interval=base.interval, coefficients=coefficients,
+        provenance=f"our Remez fitter, degree {degree} on [{lo}, {hi}] with {base.name}'s function and weight "
+                   f"(python -m routines remez -d {degree} -r \"{lo}:{hi}\" \"{base.function}\" \"{base.weight}\"), "
+                   f"coefficients rounded to float32; max weighted error {weighted}; evaluated in {base.name}'s form",
+        measured=measured)
+
+
+#: exp2's polynomials by degree (5: full's own). Measured: the compiled exp2 (FMA on, AVX-512) on every
+#: float32 x with 1/2 <= |x| < 8, in float32 ULP, against float64 NumPy (``python -m routines continuum``;
+#: full: 0.92 ULP there).
+EXP2_DEGREES: dict[int, Polynomial] = {
+    2: _fit("exp2.full.d2", EXP2_FULL, ("5.4773077e-2", "2.4218316e-1", "-3.0666274e-1"), "5.0836426e-5",
+            "max 1281 ULP on 1/2 <= |x| < 8 (python -m routines continuum exp2)"),
+    3: _fit("exp2.full.d3", EXP2_FULL, ("9.555757e-3", "5.5878803e-2", "2.4024683e-1", "-3.0687028e-1"),
+            "1.6370879e-6", "max 41.98 ULP on 1/2 <= |x| < 8 (python -m routines continuum exp2)"),
+    4: _fit("exp2.full.d4", EXP2_FULL, ("1.3226039e-3", "9.6706245e-3", "5.550875e-2", "2.402226e-1",
+                                        "-3.0685315e-1"), "4.6833616e-8", "max 2.042 ULP on 1/2 <= |x| < 8 (python -m routines continuum exp2)"),
+    5: EXP2_FULL,
+}
+
+#: log2's polynomials by degree (6: full's own). Measured: the compiled log2 (FMA on, AVX-512) on every
+#: float32 x in [1/16, 16), the largest absolute error (log2's error is absolute near its zero) and the
+#: ULP where |log2 x| >= 1, against float64 NumPy (``python -m routines continuum``; full: 1.9e-7, 1.07 ULP).
+LOG2_DEGREES: dict[int, Polynomial] = {
+    2: _fit("log2.full.d2", LOG2_FULL, ("8.2130715e-2", "-1.5692754e-1", "3.397293e-1"), "1.1318551e-4",
+            "max 1.134e-4 absolute, 950.2 ULP where |result| >= 1, on [1/16, 16)"),
+    3: _fit("log2.full.d3", LOG2_FULL, ("-4.514906e-2", "8.070308e-2", "-1.5261453e-1", "3.3979037e-1"),
+            "1.5521274e-5", "max 1.566e-5 absolute, 130.9 ULP where |result| >= 1, on [1/16, 16)"),
+    4: _fit("log2.full.d4", LOG2_FULL, ("2.584145e-2", "-4.4273563e-2", "7.677637e-2", "-1.5269805e-1",
+                                        "3.3985254e-1"), "2.2162051e-6", "max 2.355e-6 absolute, 19.26 ULP where |result| >= 1, on [1/16, 16)"),
+    5: _fit("log2.full.d5", LOG2_FULL, ("-1.5209109e-2", "2.5303092e-2", "-4.107484e-2", "7.685811e-2",
+                                        "-1.5281916e-1", "3.3985126e-1"), "3.2546532e-7", "max 4.651e-7 absolute, 3.397 ULP where |result| >= 1, on [1/16, 16)"),
+    6: LOG2_FULL,
+}
+
+FULL_DEGREE = {"exp2": max(EXP2_DEGREES), "log2": max(LOG2_DEGREES)}
+_TABLES = {"exp2": EXP2_DEGREES, "log2": LOG2_DEGREES}
+
+#: the polynomial kinds each routine's variant names set
+_ONE = {"exp2": "exp2", "exp": "exp2", "log2": "log2", "log": "log2"}
+
+
+def _single(kind: str) -> dict[str, dict[str, int]]:
+    return {f"full-d{d}": {kind: d} for d in sorted(_TABLES[kind]) if d < FULL_DEGREE[kind]}
+
+
+def _pow() -> dict[str, dict[str, int]]:
+    pairs = [(a, b) for a, b in itertools.product(sorted(EXP2_DEGREES), sorted(LOG2_DEGREES))
+             if (a, b) != (FULL_DEGREE["exp2"], FULL_DEGREE["log2"])]
+    pairs.sort(key=lambda p: (p[0] + p[1], p[1]))  # fewer FMAs first
+    return {f"full-e{a}l{b}": {"exp2": a, "log2": b} for a, b in pairs}
+
+
+#: every routine's variants: name -> {polynomial kind: degree}, cheapest first
+VARIANTS: dict[str, dict[str, dict[str, int]]] = {**{r: _single(k) for r, k in _ONE.items()}, "pow": _pow()}
+for _routine, _names in VARIANTS.items():
+    register_variants(_routine, _names)
+
+_current: contextvars.ContextVar[dict[str, int]] = contextvars.ContextVar("routines_continuum", default={})
+
+
+@contextlib.contextmanager
+def using(routine: str, variant: str | None) -> typing.Iterator[None]:
+    """Emit the block with ``routine``'s ``variant`` (``"full-d3"``; None: the tier's own
+    polynomials) in force for the polynomials it sets, nested routines (pow's exp2 and log2)
+    included."""
+    if variant is None:
+        yield
+        return
+    token = _current.set({**_current.get(), **VARIANTS[routine][variant]})
+    try:
+        yield
+    finally:
+        _current.reset(token)
+
+
+def polynomial(kind: str) -> Polynomial:
+    """The polynomial of kind ``"exp2"`` or ``"log2"`` that full precision evaluates here: full's
+    own, or the degree the variant in force asks for."""
+    table = _TABLES[kind]
+    return table[_current.get().get(kind, FULL_DEGREE[kind])]

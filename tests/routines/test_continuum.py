@@ -1,0 +1,114 @@
+"""The precision continuum (routines.continuum): full's form with shorter polynomials, between the tiers."""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+import reactor
+import routines
+from reactor import Float, Min, Site
+from reactor.errors import ReactorError
+from routines import continuum
+from routines import glsl as gl
+from routines.cli.continuum import _floats, _ulp
+
+VARIANTS = [(name, v) for name in ("exp2", "exp", "log2", "log", "pow") for v in continuum.VARIANTS[name]]
+
+
+def _bound(text: str) -> float:
+    return float(re.search(r"max ([0-9.e+-]+)", text).group(1))
+
+
+@pytest.mark.parametrize("degree", sorted(continuum.EXP2_DEGREES)[:-1])
+def test_exp2_variants_keep_their_stated_error(degree):
+    u = routines.jit("exp2", precision=f"full-d{degree}")
+    x = _floats(0.5, 8.0, 7)
+    x = np.concatenate([x, -x])
+    assert _ulp(u(x), np.exp2(x.astype(np.float64))) <= _bound(continuum.EXP2_DEGREES[degree].measured)
+
+
+@pytest.mark.parametrize("degree", sorted(continuum.LOG2_DEGREES)[:-1])
+def test_log2_variants_keep_their_stated_error(degree):
+    u = routines.jit("log2", precision=f"full-d{degree}")
+    x = _floats(1 / 16, 16.0, 7)
+    got, want = u(x).astype(np.float64), np.log2(x.astype(np.float64))
+    assert np.max(np.abs(got - want)) <= _bound(continuum.LOG2_DEGREES[degree].measured)
+
+
+def test_each_degree_is_between_its_neighbours_in_error_and_cost():
+    x = _floats(0.5, 8.0, 31)
+    errors = [_ulp(routines.jit("exp2", precision=p)(x), np.exp2(x.astype(np.float64)))
+              for p in ("full-d2", "full-d3", "full-d4", "full")]
+    assert errors == sorted(errors, reverse=True) and errors[-1] < 1.0
+    from reactor.cost.model import kernel_cycles
+    cycles = [kernel_cycles(reactor.kernel_of(routines.jit("log2", precision=p)))
+              for p in ("full-d2", "full-d3", "full-d4", "full-d5", "full")]
+    assert cycles == sorted(cycles) and cycles[0] < cycles[-1]
+
+
+SPECIALS = np.float32([np.nan, np.inf, -np.inf, 0.0, -0.0, 1.0, 2.0, 0.5, 128.0, -126.0, -149.0, -150.0, -200.0,
+                       1e-45, 1e-40, 3.0e38, -1.0, 4.0, 0.25])
+
+
+@pytest.mark.parametrize("name,variant", VARIANTS)
+def test_every_variant_has_fulls_special_values_and_exact_points(name, variant):
+    """Only the polynomial changes: NaN, infinities, zeros, subnormals, overflow, and the exact
+    points (exp2 of whole numbers, log2 of powers of two) are full's, bit for bit."""
+    full, ours = routines.jit(name, precision="full"), routines.jit(name, precision=variant)
+    if name == "pow":
+        x, y = (a.ravel() for a in np.meshgrid(SPECIALS, np.float32([0.0, 1.0, 2.0, -1.0, 2.2, np.inf, -np.inf, np.nan])))
+        a, b = full(x, y), ours(x, y)
+        keep = ~np.isfinite(a) | (a == 0) | np.isin(x, [1.0, 0.0]) | np.isin(y, [0.0])
+    else:
+        a, b = full(SPECIALS), ours(SPECIALS)
+        whole = (SPECIALS == np.round(SPECIALS)) if name == "exp2" else np.isin(SPECIALS, [1.0, 2.0, 0.5, 4.0, 0.25])
+        keep = ~np.isfinite(a) | (a == 0) | (whole if name in ("exp2", "log2") else False)
+    assert np.array_equal(a[keep].view(np.uint32), b[keep].view(np.uint32)), (name, variant)
+
+
+def test_a_variant_is_other_machine_code_and_recorded_at_its_line():
+    @reactor.kernel
+    def two(x: Float) -> Float:
+        return routines.exp2(x, precision="full-d3") + routines.exp2(x)  # not one pure call: two settings
+    calls = reactor.kernel_of(two).routines
+    assert [c.precision for c in calls] == ["full-d3", "full"]
+    x = np.linspace(-3, 3, 1001, dtype=np.float32)
+    want = routines.jit("exp2", precision="full-d3")(x) + routines.jit("exp2")(x)
+    assert np.array_equal(two(x), want)
+    assert reactor.kernel_of(routines.jit("exp2", precision="full-d3")).code.key != \
+        reactor.kernel_of(routines.jit("exp2")).code.key
+
+
+def test_variant_names_are_checked_with_the_names_there_are():
+    assert Site("a.py:1", "exp2", "full-d3").precision == "full-d3"
+    with pytest.raises(ReactorError, match="exp2 has no precision variant 'full-d9'.*'full-d2'"):
+        Site("a.py:1", "exp2", "full-d9")
+    with pytest.raises(ReactorError, match="precision must be one of"):
+        Site("a.py:1", "exp2", "fast-d3")
+    with pytest.raises(ReactorError, match="sin has no precision variants"):
+        routines.jit("sin", precision="full-d3")
+    with pytest.raises(ReactorError, match="pow has no precision variant 'full-d3'"):
+        routines.jit("pow", precision="full-d3")
+
+
+@reactor.kernel
+def gamma_exposure(c: Float, s: Float) -> Float:
+    v = gl.pow(c, 2.2) * gl.exp2(s * 4.0 - 2.0)
+    return gl.pow(Min(v, 1.0), 1.0 / 2.2)
+
+
+def test_a_gamma_exposure_scene_plans_into_the_continuum(tmp_path):
+    """Exhaustive over unorm8 x unorm8: relaxed changes thousands of codes, and every site plans to a
+    point of the continuum below full that changes none."""
+    p = reactor.plan(gamma_exposure, inputs={"c": "unorm8", "s": "unorm8"}, output="unorm8", timing_rows=1 << 14)
+    assert p.proof == "exhaustive" and p.changes["plan"] == 0 and p.changes["all relaxed"] > 1000
+    tiers = [r.tier for r in p.reports]
+    assert any(t.startswith("full-") for t in tiers) and "relaxed" not in tiers
+    assert p.cycles["plan"] < p.cycles["all full"]
+    p.save(str(tmp_path / "plan.json"))
+    again = reactor.Plan.load(str(tmp_path / "plan.json")).apply(gamma_exposure)
+    c, s = (a.ravel() for a in np.meshgrid(np.arange(256, dtype=np.float32) / 255,
+                                           np.arange(256, dtype=np.float32) / 255))
+    assert np.array_equal(again(c, s), p.ufunc(c, s))
