@@ -195,7 +195,8 @@ class Search:
         nothing (else every site at the reference); then the sites are lowered one by one below
         that, the largest saving first, each to its cheapest harmless point (by modelled cost),
         kept only if the combination still changes nothing (two harmless changes can add up to a
-        changed code); a site whose point fails beside the others tries its next ones (``TRIES``)."""
+        changed code); a site whose point fails beside the others tries its next ones (``TRIES``),
+        then the dearest of those below its start."""
         base = {}
         for site, rows in alone.items():
             upper = [tier for tier, cand in rows if cand.changed == 0 and tier in TIERS[1:]]
@@ -217,7 +218,8 @@ class Search:
             if lower:  # cheapest first (the least accurate of equals)
                 options.append((start - lower[0][0], site, [t for _, _, t in lower]))
         for _, (where, routine), tiers in sorted(options, key=lambda o: -o[0]):
-            for tier in tiers[:TRIES]:
+            # the cheapest few, then the dearest (the nearest below its start): the likeliest to hold
+            for tier in tiers[:TRIES] + tiers[TRIES:][-1:]:
                 trial = dict(chosen)
                 trial[(where, routine)] = tier
                 cand = self.compare(self.build(_site_tuple(trial, self.fma), self.top))
