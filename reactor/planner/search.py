@@ -24,6 +24,7 @@ faithful and correct. "Tier" below means any point of it.
 """
 from __future__ import annotations
 
+import hashlib
 import time
 import typing
 
@@ -272,10 +273,28 @@ def _code(cand) -> str:
     return kernel_of(cand.ufunc).code.key
 
 
+_cycles: dict[str, float] = {}
+
+
 def cycles_per_element(kern) -> float:
     """The dataflow model's cycles per element of a kernel's vector loop on the host's table
-    (``reactor.cost``)."""
-    return float(kernel_cycles(kern))
+    (``reactor.cost``). Kept in memory and in the disk cache under the machine code's key and
+    reactor's sources (the model reads the optimized IR, which a kernel from a cache would
+    otherwise trace and optimize again: nearly all of a re-plan's time)."""
+    from ..jit import cache
+    from ..kernels.recipe import library_digest
+    key = "m" + hashlib.sha256(f"cycles|{kern.code.key}|{library_digest()}".encode()).hexdigest()[:40]
+    if key not in _cycles:
+        stored = cache.disk_get(key, ".m") if kern.build.cache else None
+        try:
+            _cycles[key] = float(stored.decode()) if stored is not None else float("nan")
+        except ValueError:
+            _cycles[key] = float("nan")
+        if _cycles[key] != _cycles[key]:  # not stored (or unreadable): model it
+            _cycles[key] = float(kernel_cycles(kern))
+            if kern.build.cache:
+                cache.disk_put(key, repr(_cycles[key]).encode(), ".m")
+    return _cycles[key]
 
 
 def _site_tuple(chosen: dict, fma) -> tuple:

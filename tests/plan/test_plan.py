@@ -199,3 +199,17 @@ def test_the_reference_is_correctly_rounded_and_a_site_full_would_change_is_rais
     assert [r.tier for r in exact.reports] == ["correct"] and exact.changes["all faithful"] > 0
     assert (exact.ufunc(x) == np.log(x.astype(np.float64)).astype(np.float32)).all()
     assert "the speed of all full" in str(loose) and "the speed of all correct" in str(loose)
+
+
+def test_a_second_plan_takes_the_modelled_costs_from_the_cache(monkeypatch):
+    """Modelling a build reads its optimized IR, which a build from the disk cache would trace and
+    optimize again: the costs are kept under the code's key, so planning again models nothing."""
+    from reactor.planner import search
+    first = reactor.plan(blit, inputs={"c": "unorm8"}, output="unorm8", timing_rows=1 << 12)
+    search._cycles.clear()  # as a fresh process: only the disk cache remembers
+
+    def unused(kern, machine=None):
+        raise AssertionError(f"modelled again: {kern.name}")
+    monkeypatch.setattr(search, "kernel_cycles", unused)
+    again = reactor.plan(blit, inputs={"c": "unorm8"}, output="unorm8", timing_rows=1 << 12)
+    assert again.sites == first.sites and again.cycles == first.cycles
