@@ -34,7 +34,7 @@ from .dsl import flow  # the control-flow core as plain calls, for front ends
 from .dsl.syntax import hint, inline, syntax
 from .spirv import from_glsl, from_spirv
 from .spirv import set_builtins as set_glsl_builtins
-from .dsl.calls import RoutineCall, pure_call, routine_call, site_choice
+from .dsl.calls import RoutineCall, pure_call, routine_call, site_choice, site_probe
 from .dsl.signature import SIMD, Pointer
 from .dsl.textures import ConstantTable, Table, Texture2D, Texture3D
 from .dsl.values import Value, set_power, vector_type
@@ -91,7 +91,7 @@ __all__ = [
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads
     "Function", "function", "Module", "CompiledModule", "Library", "Routine", "Kernel", "kernel", "kernel_of", "travels_as", "map_blocks",
-    "configure_threads", "thread_settings", "configure_tiers", "finish_tiers", "RoutineCall", "routine_call", "pure_call", "site_choice", "explain",
+    "configure_threads", "thread_settings", "configure_tiers", "finish_tiers", "RoutineCall", "routine_call", "pure_call", "site_choice", "site_probe", "explain",
     "plan", "Plan", "PlanStaleError", "Range", "Rows", "register_variants", "split_precision", "flow", "hint", "syntax", "from_glsl", "from_spirv", "set_glsl_builtins",
     # errors
     "ReactorError", "DSLTypeError", "WidthMismatchError", "ScopeError", "ControlFlowError", "LoopLimitError",

@@ -95,10 +95,18 @@ class Site:
     routine: str
     precision: str
     fma: bool | None = None
+    #: the operands' ranges a plan proved on an exhaustive domain, ``(lo, hi, nan)`` each (``()``: none
+    #: known): the routine may drop the special-case paths they exclude (``routines.continuum``)
+    ranges: tuple = ()
 
     def __post_init__(self):
         level, variant = split_precision(self.precision, self.routine if "-" in str(self.precision) else None)
         object.__setattr__(self, "precision", level.value + (f"-{variant}" if variant else ""))
+        try:
+            ranges = tuple((float(lo), float(hi), bool(nan)) for lo, hi, nan in (self.ranges or ()))
+        except (TypeError, ValueError):
+            raise ReactorError(f"Site ranges must be (lo, hi, nan) per operand, not {self.ranges!r}") from None
+        object.__setattr__(self, "ranges", ranges)
 
 
 def _sites(value) -> tuple[Site, ...]:

@@ -95,15 +95,21 @@ def routine(fn: typing.Callable[..., Value]) -> Builder:
     def build(*args: typing.Any, precision: typing.Any = None, fma: bool | None = None,
               **kwargs: typing.Any) -> Value:
         chosen = reactor.site_choice(fn.__name__)  # a plan's choice for this call site wins
+        spans = None
         if chosen is not None:
             precision, fma = chosen.precision, chosen.fma if chosen.fma is not None else fma
+            spans = chosen.ranges or None  # its operands' proved ranges: special paths it may drop
+        reactor.site_probe(fn.__name__, args)  # reactor.plan measuring what this call site sees
         precision, variant = variant_of(precision, fn.__name__)
         level = check_tier(check_precision(precision, fn.__name__), fn.__name__)
         def emit() -> Value:
             with reactor.routine_call(fn.__name__, variant), continuum.using(fn.__name__, variant):
-                return fn(*args, precision=level, **kwargs)
+                if spans is None:
+                    return fn(*args, precision=level, **kwargs)
+                with continuum.operand_ranges(fn.__name__, spans):
+                    return fn(*args, precision=level, **kwargs)
         with fma_mode(fma), reactor.precision(level):
-            return reactor.pure_call(fn.__name__, (level.value, variant, fma), args, kwargs, emit)
+            return reactor.pure_call(fn.__name__, (level.value, variant, fma, spans), args, kwargs, emit)
 
     return typing.cast(Builder, build)
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import itertools
+import math
 import typing
 
 from reactor import register_variants
@@ -110,3 +111,60 @@ def polynomial(kind: str) -> Polynomial:
     own, or the degree the variant in force asks for."""
     table = _TABLES[kind]
     return table[_current.get().get(kind, FULL_DEGREE[kind])]
+
+
+# -- ranges a plan proved: the special-case paths a call site can drop ---------------------------
+
+class Span(typing.NamedTuple):
+    """An operand's values at a call site: [lo, hi] and whether a NaN comes."""
+
+    lo: float
+    hi: float
+    nan: bool
+
+    def within(self, lo: float, hi: float) -> bool:
+        """No NaN, and every value in [lo, hi]."""
+        return not self.nan and lo <= self.lo and self.hi <= hi
+
+
+_spans: contextvars.ContextVar[tuple[str, tuple[Span, ...]] | None] = \
+    contextvars.ContextVar("routines_spans", default=None)
+
+
+@contextlib.contextmanager
+def operand_ranges(routine: str, spans) -> typing.Iterator[None]:
+    """Emit the block knowing that ``routine``'s operands lie in ``spans`` ((lo, hi, nan) each; a
+    plan's ``Site.ranges``, proved on an exhaustive domain). Only a call of ``routine`` reads them:
+    a routine that calls another states that one's ranges itself (pow: log2's and exp2's)."""
+    token = _spans.set((routine, tuple(Span(*s) for s in spans)) if spans else None)
+    try:
+        yield
+    finally:
+        _spans.reset(token)
+
+
+def operand_range(routine: str, k: int = 0) -> Span | None:
+    """The range of operand ``k`` of the ``routine`` being emitted, where a plan proved one."""
+    known = _spans.get()
+    if known is None or known[0] != routine or k >= len(known[1]):
+        return None
+    return known[1][k]
+
+
+def scaled(span: Span | None, factor: float) -> tuple[Span, ...] | None:
+    """``span`` times the constant ``factor`` (exp's x log2(e)), as operand_ranges takes it."""
+    if span is None or not math.isfinite(factor):
+        return None
+    ends = sorted((span.lo * factor, span.hi * factor))
+    return None if any(math.isnan(e) for e in ends) else (Span(ends[0], ends[1], span.nan),)
+
+
+def product_of_log2(x: Span | None, y: Span | None) -> tuple[Span, ...] | None:
+    """The range of y * log2(x) (pow's exponent), where both are known and it is defined."""
+    if x is None or y is None or x.lo < 0 or math.isnan(x.lo):
+        return None
+    lx = [math.log2(v) if v > 0 else -math.inf for v in (x.lo, x.hi)]
+    ends = [a * b for a in lx for b in (y.lo, y.hi)]
+    if any(math.isnan(e) for e in ends):  # 0 * inf
+        return None
+    return (Span(min(ends), max(ends), x.nan or y.nan),)

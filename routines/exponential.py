@@ -110,6 +110,9 @@ def _full(x):
     p = MulAdd(EXP2_FULL(f), f, f) + 1.0
     bits = As(Int_, p)
     n = ToInt(k, saturate=False)                            # NaN: INT_MIN, shifted out: p, i.e. x quieted
+    span = continuum.operand_range("exp2")
+    if span is not None and span.within(-125.0, 127.0):     # a plan proved normal results, no NaN:
+        return As(Float_, bits + (n << 23))                 # no subnormal path, no overflow select
     result = Variable(Float_, As(Float_, bits + (n << 23)))
     below = x < -125.0                                      # subnormal results, zeros, -inf
     with If(Any(below)):
@@ -141,4 +144,5 @@ def exp(x, precision: Precision = Precision.FULL):
     x = float_value(x, "exp")
     if precision in (Precision.FAITHFUL, Precision.CORRECT):
         return accurate.exp(x, precision).named("exp")
-    return exp2(x * LOG2_E, precision=precision).named("exp")
+    with continuum.operand_ranges("exp2", continuum.scaled(continuum.operand_range("exp"), LOG2_E)):
+        return exp2(x * LOG2_E, precision=precision).named("exp")

@@ -43,6 +43,7 @@ from .base import float_value, positive_normal, routine
 from .polynomials import LOG2_RELAXED
 
 LN_2 = 0.6931471805599453
+MIN_NORMAL, MAX_FINITE = 2.0 ** -126, 3.4028234663852886e38
 
 
 def _full(e_half, u):
@@ -83,6 +84,9 @@ def log2(x, precision: Precision = Precision.FULL):
         fast = _full(biased - 126.5, significand - 1.5)      # e + 1/2, m - 1/2: exact
     else:
         fast = _relaxed(biased - 127.0, significand - 1.0)
+    span = continuum.operand_range("log2")
+    if span is not None and span.within(MIN_NORMAL, MAX_FINITE):  # a plan proved every x positive and normal
+        return fast.named("log2")
     result: typing.Any = Variable(Float_, fast)  # (Variable's overloads say Value)
     with If(Any(~normal)):
         result.set(Select(normal, result, _general(x, precision)))
@@ -96,4 +100,6 @@ def log(x, precision: Precision = Precision.FULL):
     x = float_value(x, "log")
     if precision in (Precision.FAITHFUL, Precision.CORRECT):
         return accurate.log(x, precision).named("log")
-    return (log2(x, precision=precision) * LN_2).named("log")
+    span = continuum.operand_range("log")
+    with continuum.operand_ranges("log2", (span,) if span else None):
+        return (log2(x, precision=precision) * LN_2).named("log")

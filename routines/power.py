@@ -27,10 +27,12 @@ docs/accuracy.md for the derivation used by the accuracy lab.
 """
 from __future__ import annotations
 
+import math
+
 import reactor
 from reactor import Precision
 
-from . import accurate
+from . import accurate, continuum
 from .base import float_value, nan_rule, routine
 from .exponential import exp2
 from .logarithm import log2
@@ -72,10 +74,14 @@ def pow(x, y, precision: Precision = Precision.FULL):  # noqa: A001 - the routin
             and int(y) in WHOLE_EXPONENTS and int(y) != 0:
         return _whole_power(x, int(y)).named("pow")
     y = float_value(y, "pow", "y")
-    lx = log2(x, precision=precision)                      # NaN for a NaN x (quieted) or x < 0 (0xffc00000)
+    rx, ry = continuum.operand_range("pow", 0), continuum.operand_range("pow", 1)  # a plan's proved ranges
+    with continuum.operand_ranges("log2", (rx,) if rx else None):
+        lx = log2(x, precision=precision)                  # NaN for a NaN x (quieted) or x < 0 (0xffc00000)
     t = y * lx
-    t = reactor.Select(reactor.IsNan(lx), lx, t)           # x's NaN first, whatever order the multiply has
-    return nan_rule(exp2(t, precision=precision), lx, y).named("pow")
+    if not (rx is not None and rx.within(0.0, math.inf)):  # where x is proved >= 0 and no NaN, lx is no NaN
+        t = reactor.Select(reactor.IsNan(lx), lx, t)       # x's NaN first, whatever order the multiply has
+    with continuum.operand_ranges("exp2", continuum.product_of_log2(rx, ry)):
+        return nan_rule(exp2(t, precision=precision), lx, y).named("pow")
 
 
 reactor.set_power(pow)  # x ** y in the DSL, for a y other than a small whole number

@@ -9,6 +9,7 @@ show the list, so a scene's author sees what every call site cost.
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import dataclasses
 import typing
 
@@ -146,3 +147,30 @@ def pure_call(name: str, settings: tuple, args: tuple, options: dict, emit: typi
 def calls_of(module) -> list[RoutineCall]:
     """The routines a module's build recorded, in order of first use."""
     return list(module.routine_calls)
+
+
+# -- what a call site sees: reactor.plan's value ranges ------------------------------------------
+
+_probe: contextvars.ContextVar = contextvars.ContextVar("reactor_site_probe", default=None)
+
+
+@contextlib.contextmanager
+def probing(where: str, routine: str, record: typing.Callable[[tuple], None]) -> typing.Iterator[None]:
+    """While building in the block, call ``record(operands)`` at every call of ``routine`` from the
+    user's line ``where`` (``reactor.plan`` measures the values each site sees this way)."""
+    token = _probe.set((where, routine, record))
+    try:
+        yield
+    finally:
+        _probe.reset(token)
+
+
+def site_probe(name: str, args: tuple) -> None:
+    """A routine library calls this with a call's operands before emitting it: a no-op unless a
+    plan is probing this site (``probing``). Calls inside another routine are not sites."""
+    probe = _probe.get()
+    if probe is None or not _em.building() or _em.current().module.routine_depth:
+        return
+    where, routine, record = probe
+    if name == routine and where_called() == where:
+        record(args)

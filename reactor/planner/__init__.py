@@ -28,6 +28,7 @@ from ..build import Site
 from ..errors import ReactorError
 from .domains import MAX_ROWS, Range, Rows
 from .outputs import Output
+from .ranges import site_ranges
 from .search import TIERS, Search, _short, reference_sites
 
 __all__ = ["plan", "Plan", "Range", "Rows", "PlanStaleError"]
@@ -50,6 +51,8 @@ class SiteReport:
     saving: float  # modelled cycles per element saved against the reference at this site alone
     source: str | None = None  # the tier the source sets here (GLSL mediump: relaxed), None: none
     source_changes: int | None = None  # outputs changed with this site at ``source`` alone
+    sees: list | None = None  # per operand, its values over the check rows (``ranges.OperandRange.text``)
+    in_range: bool = False  # built knowing those ranges (special-case paths they exclude dropped)
 
     def text(self) -> str:
         saved = f"{self.saving:+.2f}" if self.saving else "     "
@@ -61,6 +64,9 @@ class SiteReport:
             if self.below_example:
                 example = "  e.g. " + ", ".join(f"{k}={_fmt(v)}" for k, v in self.below_example.items())
             line = head + f"  {self.below}: changes {self.below_changes:,}{example}"
+        if self.sees:
+            line += f"\n  {'':<6} {'':<22} sees {', '.join(self.sees)}" + \
+                ("; built for that range (special cases dropped)" if self.in_range else "")
         if self.source is not None:
             verdict = "safe: the stored output is the same" if not self.source_changes else \
                 f"changes {self.source_changes:,} stored outputs"
@@ -161,6 +167,8 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
     search.sharpen()
     alone = search.alone()
     sites, best = search.together(alone)
+    seen = site_ranges(search)  # what each site's operands are, over the check rows
+    sites, best = search.restrict(sites, best, seen)
     proof = "exhaustive" if search.check.exhaustive else "sample"
     checked = search.check.size
     if search.fresh is not None:  # a sampled plan is re-checked on rows it was not chosen on
@@ -182,8 +190,10 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
         source = search.authored.get((where, routine))
         source_changes = None if source is None else 0 if source == TIERS[-1] else \
             next((c.changed for t, c in alone_rows if t == source), None)
+        ranged = any(x.ranges for x in sites if (x.where, x.routine) == (where, routine))
         reports.append(SiteReport(where, routine, tier, b[0] if b else None, b[1].changed if b else None,
-                                  b[1].example if b else None, saved[0] if saved else 0.0, source, source_changes))
+                                  b[1].example if b else None, saved[0] if saved else 0.0, source, source_changes,
+                                  [r.text() for r in seen.get((where, routine), ())], ranged))
     written = search.as_written()
     sites = search.pinned(sites)
     cycles, changes, ufuncs = {}, {}, {}

@@ -234,6 +234,30 @@ class Search:
                     break
         return _site_tuple({k: v for k, v in chosen.items() if v != self.top}, self.fma), best
 
+    def restrict(self, sites: tuple, best: Candidate, ranges: dict) -> tuple[tuple, Candidate]:
+        """On an exhaustive check only: each site at full or a point of the continuum, built knowing
+        the ranges its operands were proved in (``ranges.site_ranges``, widened by 2^-20), so that it
+        drops the special-case paths they exclude (exp2's subnormal and overflow paths, log2's
+        general one, pow's NaN select); kept where it changes nothing and is cheaper code."""
+        if not self.check.exhaustive:
+            return sites, best
+        current = {(s.where, s.routine): s for s in sites}
+        for where, routine in self.sites:
+            site = current.get((where, routine))
+            tier = site.precision if site is not None else self.top
+            spans = ranges.get((where, routine))
+            if not (tier == "full" or tier.startswith("full-")) or not spans or \
+                    not all(r.known and r.seen for r in spans):
+                continue
+            trial = dict(current)
+            trial[(where, routine)] = Site(where, routine, tier, self.fma, tuple(_widened(r) for r in spans))
+            cand = self.compare(self.build(tuple(sorted(trial.values())), self.top))
+            self.log(f"  {routine} at {_short(where)} {tier} in its range: changes {cand.changed:,}, "
+                     f"{cand.cycles:.2f} cycles/element")
+            if cand.changed == 0 and cand.cycles <= best.cycles + 1e-9 and _code(cand) != _code(best):
+                current, best = trial, cand
+        return tuple(sorted(current.values())), best
+
     def below(self, sites: tuple) -> dict:
         """For each site not at the least accurate point of its ``ladder``: the plan with it one
         point lower, compared."""
@@ -295,6 +319,14 @@ def cycles_per_element(kern) -> float:
             if kern.build.cache:
                 cache.disk_put(key, repr(_cycles[key]).encode(), ".m")
     return _cycles[key]
+
+
+def _widened(r) -> tuple[float, float, bool]:
+    """An operand range a little wider (2^-20 relative, zero kept): a site below full upstream may
+    move a value by a few ULP."""
+    def out(v, up):
+        return v * (1 + 2 ** -20) if (v > 0) == up else v * (1 - 2 ** -20)
+    return out(r.lo, False), out(r.hi, True), r.nan
 
 
 def _site_tuple(chosen: dict, fma) -> tuple:
