@@ -77,7 +77,7 @@ def probe_body(body, where: str, routine: str, width: int):
         with probing(where, routine, record):
             body(*params)
         return tuple(v.value for slot in slots for v in slot)
-    probe.__signature__ = inspect.signature(body)  # the body's parameter names
+    setattr(probe, "__signature__", inspect.signature(body))  # the body's parameter names
     probe.__name__ = f"{getattr(body, '__name__', 'body')}_probe"
     return probe
 
