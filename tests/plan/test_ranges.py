@@ -84,6 +84,12 @@ def gamma(c: Float, s: Float) -> Float:
 
 def test_an_exhaustive_plan_builds_sites_for_their_proved_ranges_and_a_sampled_one_does_not(tmp_path):
     p = reactor.plan(gamma, inputs={"c": "unorm8", "s": "unorm8"}, output="unorm8", timing_rows=1 << 12)
+    # the precision continuum: relaxed changes thousands of codes, and every site plans to a point
+    # below full (full's form, a shorter polynomial) that changes none
+    assert p.proof == "exhaustive" and p.changes["plan"] == 0 and p.changes["all relaxed"] > 1000
+    tiers = [r.tier for r in p.reports]
+    assert any(t.startswith("full-") for t in tiers) and "relaxed" not in tiers
+    assert p.cycles["plan"] < p.cycles["all full"]
     pows = [r for r in p.reports if r.routine == "pow"]
     assert all(r.in_range for r in pows) and pows[0].sees == ["[0, 1]", "2.20000005"]
     assert "built for that range" in str(p) and p.changes["plan"] == 0
