@@ -1,6 +1,6 @@
 """Scenes planned by ``reactor.plan``: each call site's cheapest tier that changes no stored output.
 
-    python examples/plan/scenes.py [--out DIR] [--size N] [--only NAME ...]
+    python examples/plan/scenes.py [--out DIR] [--size N] [--only NAME ...] [--target avx2]
 
 Each scene is a kernel, the domain of its inputs and the formats it is stored in. For every
 (scene, format) the planner picks each routine call site's tier so that the stored output is
@@ -85,32 +85,42 @@ def _rows(kern_ufunc, args) -> Rows:
     return Rows(**{n: a.ravel() for n, a in zip(names, arrays)})
 
 
-def _port(module_name: str, size: int):
+def _port(module_name: str, size: int, target: str | None = None):
     module = __import__(module_name)
-    u = reactor.kernel(module.main_image, name=module_name)
+    u = reactor.kernel(module.main_image, name=module_name, **({"target": target} if target else {}))
     return u, {"rows": _rows(u, module.inputs(size))}
 
 
-def scenes(size: int) -> list[tuple[str, object, dict, list, int]]:
-    """(name, kernel, inputs, formats, timing rows) of every scene; ``size``: the ports' width."""
+def _for(u, target: str | None):
+    """The kernel ``u`` built for ``target`` (None: as it is, for this CPU)."""
+    if target is None:
+        return u
+    k = reactor.kernel_of(u)
+    return reactor.kernel(k.body, name=k.name, args=list(k.signature.params), target=target)
+
+
+def scenes(size: int, target: str | None = None) -> list[tuple[str, object, dict, list, int]]:
+    """(name, kernel, inputs, formats, timing rows) of every scene; ``size``: the ports' width;
+    ``target``: the x86 level the kernels are built for (None: this CPU's)."""
     ports = [("tonemap", ["unorm8", "float16"], 1 << 20), ("gltf_pbr", ["unorm8", "unorm10"], 1 << 20),
              ("raymarch", ["unorm8", "unorm16"], 1 << 16)]
     found = [("srgb_blit", srgb_blit, {"c": "unorm8"}, ["unorm8", "unorm10"], 1 << 20),
              ("exposure", exposure, {"x": "float16", "stops": STOPS}, ["unorm8", "unorm10"], 1 << 20),
              ("linear_half", linear_half, {"c": "unorm8"}, ["float16", "unorm16", "unorm8"], 1 << 20),
              ("gamma_exposure", gamma_exposure, {"c": "unorm8", "s": "unorm8"}, ["unorm8", "unorm10"], 1 << 20)]
+    found = [(name, _for(u, target), inputs, formats, timing) for name, u, inputs, formats, timing in found]
     for name, formats, timing in ports:
         port_size = size if name != "raymarch" else size // 2
-        u, inputs = _port(name, port_size)
+        u, inputs = _port(name, port_size, target)
         found.append((name, u, inputs, formats, timing))
     return found
 
 
-def run(size: int = 128, only=None) -> dict:
+def run(size: int = 128, only=None, target: str | None = None) -> dict:
     """Plan every scene for every format; the figures as a dict (see the module docstring)."""
     results = []
     with reactor.options():
-        for name, u, inputs, formats, timing in scenes(size):
+        for name, u, inputs, formats, timing in scenes(size, target):
             if only and name not in only:
                 continue
             for fmt in formats:
@@ -119,7 +129,7 @@ def run(size: int = 128, only=None) -> dict:
                                 "speedup": p.times_ms["all full"] / p.times_ms["plan"],
                                 "speedup_correct": p.times_ms["all correct"] / p.times_ms["plan"],
                                 "model_speedup": p.cycles["all full"] / p.cycles["plan"]})
-    return {"size": size, "results": results}
+    return {"size": size, "target": target or "host", "results": results}
 
 
 def table(r: dict) -> str:
@@ -181,10 +191,11 @@ def main(argv=None) -> dict:
     parser.add_argument("--out", default=DEFAULT_OUT)
     parser.add_argument("--size", type=int, default=128, help="width of the ports' renders (raymarch: half)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="these scenes only")
+    parser.add_argument("--target", help="build and plan for this x86 level (e.g. avx2; default: this CPU)")
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     t0 = time.perf_counter()
-    r = run(args.size, args.only)
+    r = run(args.size, args.only, args.target)
     print(table(r))
     for x in r["results"]:
         print("\n" + x["text"])
