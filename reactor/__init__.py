@@ -26,7 +26,7 @@ from .dsl.control import Break, Continue, Elif, Else, For, If, Return, While
 from .dsl.external import External
 from .dsl.intrinsics import (
     Abs, All, Any, As, Ceil, CopySign, Exponent, Extract, Floor, Fma, Fract, Insert, IsFinite,
-    IsInf, IsNan, LaneIndex, LRint, Max, MaxNum, Min, MinNum, MulAdd, RcpApprox, ReduceDown, ReduceNearest, Round,
+    IsInf, IsNan, LaneIndex, Lookup, LRint, Max, MaxNum, Min, MinNum, MulAdd, RcpApprox, ReduceDown, ReduceNearest, Round,
     RsqrtApprox, ScaleF, Select, Significand, ShiftRightArithmetic, ShiftRightLogical, Sqrt, ToInt, Trunc,
     build_settings, fma_mode, precision, target_features,
 )
@@ -86,7 +86,7 @@ __all__ = [
     "If", "Elif", "Else", "While", "For", "Return", "Break", "Continue", "inline",
     # intrinsics
     "Abs", "All", "Any", "As", "Ceil", "CopySign", "Exponent", "Extract", "Floor", "Fma", "Fract", "Insert",
-    "IsFinite", "IsInf", "IsNan", "LaneIndex", "LRint", "Max", "MaxNum", "Min", "MinNum", "MulAdd", "RcpApprox",
+    "IsFinite", "IsInf", "IsNan", "LaneIndex", "Lookup", "LRint", "Max", "MaxNum", "Min", "MinNum", "MulAdd", "RcpApprox",
     "ReduceDown", "ReduceNearest", "Round", "RsqrtApprox", "ScaleF", "Select", "Significand", "ShiftRightArithmetic",
     "ShiftRightLogical", "Sqrt", "ToInt", "Trunc", "External",
     # functions, kernels, threads

@@ -21,6 +21,8 @@ import itertools
 import math
 import typing
 
+import numpy as np
+
 from reactor import register_variants
 
 from .polynomials import EXP2_FULL, LOG2_FULL, Polynomial
@@ -68,19 +70,60 @@ LOG2_DEGREES: dict[int, Polynomial] = {
 FULL_DEGREE = {"exp2": max(EXP2_DEGREES), "log2": max(LOG2_DEGREES)}
 _TABLES = {"exp2": EXP2_DEGREES, "log2": LOG2_DEGREES}
 
+
+# -- another reduction form: log2 by a table of 32 points (``full-tN``) -------------------------
+#
+# For x = 2^e m, m in [1, 2): i = the top 5 bits of m's fraction, c_i = 1 for i = 0 and the middle
+# of [1 + i/32, 1 + (i+1)/32) otherwise, INVC[i] = 1/c_i rounded to float32, LOGC[i] = -log2(INVC[i])
+# rounded to float32. Then r = m INVC[i] - 1 (one FMA, rounded once) lies in [-0.0149254, 0.03125],
+# and log2 x = (e + LOGC[i]) + r Q(r) with Q ~ log2(1+r)/r. The tables are read from registers
+# (``reactor.Lookup``: one VPERMI2PS each with AVX-512), so Q of degree 2 matches full's accuracy
+# with 4 FMAs where full's centred form takes 8. c_0 = 1 keeps log2(1) = 0 and log2(2^k) = k exact
+# and the error relative near x = 1 (log2(1+r) = r Q(r) there). Specials come from e and m as in
+# full's form (Exponent/Significand), so every special value is full's.
+
+LOG2_TABLE_BITS = 5
+LOG2_INVC = tuple([1.0] + [float(np.float32(1.0 / (1.0 + (i + 0.5) / 32))) for i in range(1, 32)])
+LOG2_LOGC = tuple(float(np.float32(-math.log2(c))) for c in LOG2_INVC)
+
+
+def _table_fit(degree: int, coefficients: tuple[str, ...], weighted: str, measured: str) -> Polynomial:
+    return Polynomial(
+        name=f"log2.table.t{degree}", function="log2(1+x)/x", weight="log2(1+x)/x",
+        interval=("-0.0149254", "0.03125"), coefficients=coefficients,
+        provenance=f"our Remez fitter, degree {degree} on [-0.0149254, 0.03125] (the range of r over the 32 "
+                   f"table points), relative error (python -m routines remez -d {degree} -r \"-0.0149254:0.03125\" "
+                   f"\"log2(1+x)/x\" \"log2(1+x)/x\"), coefficients rounded to float32; max weighted error "
+                   f"{weighted}; evaluated as (e + LOGC[i]) + r Q(r)",
+        measured=measured)
+
+
+#: Q's of the table form by degree. Measured as LOG2_DEGREES' (``python -m routines continuum``).
+LOG2_TABLE_DEGREES: dict[int, Polynomial] = {
+    1: _table_fit(1, ("-7.136934e-1", "1.4427903"), "8.7605961e-5", "max 3.9992e-6 absolute, 33.1 ULP where |result| >= 1, on [1/16, 16)"),
+    2: _table_fit(2, ("4.7232e-1", "-7.2141945e-1", "1.442696"), "7.5274255e-7", "max 2.6933e-7 absolute, 1.13 ULP where |result| >= 1, on [1/16, 16)"),
+    3: _table_fit(3, ("-3.515587e-1", "4.8093793e-1", "-7.2134936e-1", "1.442695"), "6.8981065e-9", "max 2.6391e-7 absolute, 1.111 ULP where |result| >= 1, on [1/16, 16)"),
+}
+
 #: the polynomial kinds each routine's variant names set
 _ONE = {"exp2": "exp2", "exp": "exp2", "log2": "log2", "log": "log2"}
 
 
 def _single(kind: str) -> dict[str, dict[str, int]]:
-    return {f"full-d{d}": {kind: d} for d in sorted(_TABLES[kind]) if d < FULL_DEGREE[kind]}
+    names = {f"full-d{d}": {kind: d} for d in sorted(_TABLES[kind]) if d < FULL_DEGREE[kind]}
+    if kind == "log2":
+        names.update({f"full-t{q}": {"log2t": q} for q in sorted(LOG2_TABLE_DEGREES)})
+    return names
 
 
 def _pow() -> dict[str, dict[str, int]]:
     pairs = [(a, b) for a, b in itertools.product(sorted(EXP2_DEGREES), sorted(LOG2_DEGREES))
              if (a, b) != (FULL_DEGREE["exp2"], FULL_DEGREE["log2"])]
     pairs.sort(key=lambda p: (p[0] + p[1], p[1]))  # fewer FMAs first
-    return {f"full-e{a}l{b}": {"exp2": a, "log2": b} for a, b in pairs}
+    names = {f"full-e{a}l{b}": {"exp2": a, "log2": b} for a, b in pairs}
+    # log2 by the table: Q of degree 1 or 2 (2 already matches full's log2)
+    names.update({f"full-e{a}t{q}": {"exp2": a, "log2t": q} for a in sorted(EXP2_DEGREES) for q in (1, 2)})
+    return names
 
 
 #: every routine's variants: name -> {polynomial kind: degree}, cheapest first
@@ -111,6 +154,13 @@ def polynomial(kind: str) -> Polynomial:
     own, or the degree the variant in force asks for."""
     table = _TABLES[kind]
     return table[_current.get().get(kind, FULL_DEGREE[kind])]
+
+
+def log2_table() -> Polynomial | None:
+    """Q of log2's table form where a variant in force asks for it (``full-t2``, pow's
+    ``full-e4t2``); None: full's centred form."""
+    degree = _current.get().get("log2t")
+    return None if degree is None else LOG2_TABLE_DEGREES[degree]
 
 
 # -- ranges a plan proved: the special-case paths a call site can drop ---------------------------

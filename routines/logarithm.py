@@ -34,7 +34,7 @@ from __future__ import annotations
 import typing
 
 from reactor import (
-    Any, As, Exponent, If, MulAdd, Precision, Select, ShiftRightLogical, Significand, Variable, target_features,
+    Any, As, Exponent, If, Lookup, MulAdd, Precision, Select, ShiftRightLogical, Significand, Variable, target_features,
     vector_type,
 )
 
@@ -46,10 +46,23 @@ LN_2 = 0.6931471805599453
 MIN_NORMAL, MAX_FINITE = 2.0 ** -126, 3.4028234663852886e38
 
 
-def _full(e_half, u):
-    """Full precision from e + 1/2 and u = m - 1/2 (both exact); a continuum variant's polynomial
-    of lower degree where one is in force (``routines.continuum``)."""
-    return MulAdd(continuum.polynomial("log2")(u), MulAdd(-u, u, 0.25), u) + e_half
+def _full(exponent_plus, m):
+    """Full precision from the significand m in [1, 2) and ``exponent_plus(k)``, e + k computed
+    exactly in one operation: full's centred form, or where a continuum variant is in force
+    (``routines.continuum``) its polynomial of lower degree or the table form."""
+    table_q = continuum.log2_table()
+    if table_q is not None:
+        return _by_table(exponent_plus(0.0), m, table_q)
+    u = m - 1.5
+    return MulAdd(continuum.polynomial("log2")(u), MulAdd(-u, u, 0.25), u) + exponent_plus(0.5)
+
+
+def _by_table(e, m, q):
+    """The table form (``routines.continuum``, ``full-tN``): (e + LOGC[i]) + r Q(r), r = m INVC[i] - 1,
+    i the top bits of m's fraction; the tables read from registers by ``Lookup``."""
+    i = ShiftRightLogical(As(vector_type("Int", m.width), m), 23 - continuum.LOG2_TABLE_BITS)
+    r = MulAdd(m, Lookup(continuum.LOG2_INVC, i), -1.0)
+    return MulAdd(q(r), r, e + Lookup(continuum.LOG2_LOGC, i))
 
 
 def _relaxed(e, m):
@@ -59,7 +72,8 @@ def _relaxed(e, m):
 def _general(x, precision):
     """Every input: the exponent and significand by ``Exponent``/``Significand``."""
     if precision is Precision.FULL:
-        return _full(Exponent(x) + 0.5, Significand(x) - 1.5)
+        e = Exponent(x)
+        return _full(lambda k: e + k if k else e, Significand(x))
     return _relaxed(Exponent(x), Significand(x) - 1.0)
 
 
@@ -81,7 +95,7 @@ def log2(x, precision: Precision = Precision.FULL):
     biased = Float_(ShiftRightLogical(bits, 23))
     significand = As(Float_, (bits & 0x007FFFFF) | 0x3F800000)
     if precision is Precision.FULL:
-        fast = _full(biased - 126.5, significand - 1.5)      # e + 1/2, m - 1/2: exact
+        fast = _full(lambda k: biased - (127.0 - k), significand)  # e + k: exact
     else:
         fast = _relaxed(biased - 127.0, significand - 1.0)
     span = continuum.operand_range("log2")

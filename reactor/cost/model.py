@@ -450,6 +450,7 @@ _INTRINSIC_CLASSES = [
     (r"llvm\.(smin|smax|umin|umax)", "int"),  # VPMIN/VPMAX: integer ALU, any pipe
     (r"llvm\.(floor|ceil|trunc|roundeven|rint)", "round"),
     (r"x86\.avx512\.mask\.(reduce|getexp|getmant|rndscale)", "round"),
+    (r"x86\.avx512\.(permvar|vpermi2var)|x86\.avx2\.perm", "shuffle"),  # Lookup: VPERMPS/VPERMI2PS
     (r"x86\.avx512\.mask\.scalef", "fma"),  # VSCALEFPS (ScaleF): FP0/FP1, latency ~4, like an FMA
     (r"rsqrt", "estimate_rsqrt"), (r"rcp", "estimate"), (r"llvm\.sqrt", "sqrt"), (r"llvm\.fabs|llvm\.copysign", "int"),
     (r"llvm\.fpto[su]i\.sat", "convert"), (r"llvm\.masked\.load", "load"), (r"llvm\.masked\.store", "store"),

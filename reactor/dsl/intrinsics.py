@@ -441,6 +441,31 @@ def ReduceNearest(x: Value) -> Value:
     return Select(IsInf(x), 0.0, r).named("reduce")
 
 
+def Lookup(table, index: Value) -> Value:
+    """``table[index mod len(table)]`` per lane: ``table`` a sequence of 2, 4, 8, 16 or 32 Python
+    floats known at build time, ``index`` an Int value of any width; a Float value of that width.
+    From registers where the target can (AVX-512: one VPERMPS, or VPERMI2PS for 32 entries;
+    AVX2: one VPERMPS per 8 entries and selects); elsewhere a gather from a constant array. The
+    table-driven reductions of the precision continuum read their tables with it."""
+    values = [float(v) for v in table]
+    n = len(values)
+    if n < 2 or n > 32 or n & (n - 1):
+        raise DSLTypeError(f"Lookup takes a table of 2, 4, 8, 16 or 32 floats, not {n}")
+    if not isinstance(index, Value) or index.kind.name != "Int":
+        raise DSLTypeError(f"Lookup's index is an Int value (any width), not {index!r}")
+    em = _em.current()
+    vt = index.vtype.with_kind("Float")
+    native = None if _known(index) else x86.lookup(em, vt, values, index.ir, _features())
+    if native is not None:
+        return value_class(vt)._wrap(native, em).named("lookup")
+    index = index & (n - 1)
+    Long_ = VType(T.INDEX_KIND, vt.width)
+    offsets = ops.convert(em, index.vtype, Long_, (index * 4).ir)
+    g = em.module.constant_array(("lookup", tuple(values)), vt, values, "lookup")
+    base = em.cast_pointer(g, T.BYTE, name="lookup")
+    return value_class(vt)._wrap(em.gather(vt, base, offsets), em).named("lookup")
+
+
 def LRint(x: Value) -> Value:
     """Float -> Int rounded to nearest even in one conversion (VCVTPS2DQ), for inputs
     known to be in Int's range: others give an unspecified (fixed) value, which

@@ -98,3 +98,46 @@ def estimate(em, op: str, vt: VType, value, features: frozenset[str]):
             value = em.call(fn, [value], name="sqrt")
         return em.fdiv(const(vt, 1.0), value, name=f"{op}.exact")
     return by_native_width(em, vt, value, natives)
+
+
+# -- small constant tables in registers ------------------------------------------------
+
+def _float_vector(values):
+    return ir.Constant(ir.VectorType(ir.FloatType(), len(values)), [ir.Constant(ir.FloatType(), v) for v in values])
+
+
+def _lookup_512(em, table, index):
+    """16 lanes: VPERMPS (up to 16 entries, index bits 0-3) or VPERMI2PS (32, bits 0-4)."""
+    vty, ity = ir.VectorType(ir.FloatType(), 16), ir.VectorType(_I32, 16)
+    if len(table) <= 16:
+        fn = em.intrinsic("llvm.x86.avx512.permvar.sf.512", vty, [vty, ity])
+        return em.call(fn, [_float_vector((table * 16)[:16]), index], name="lookup")
+    fn = em.intrinsic("llvm.x86.avx512.vpermi2var.ps.512", vty, [vty, ity, vty])
+    return em.call(fn, [_float_vector(table[:16]), index, _float_vector(table[16:])], name="lookup")
+
+
+def _lookup_256(em, table, index):
+    """8 lanes: one VPERMPS per 8 entries (index bits 0-2), joined by selects on bits 3 and 4."""
+    vty, ity = ir.VectorType(ir.FloatType(), 8), ir.VectorType(_I32, 8)
+    fn = em.intrinsic("llvm.x86.avx2.permps", vty, [vty, ity])
+    parts = [em.call(fn, [_float_vector((table[i:i + 8] * 8)[:8]), index], name="lookup")
+             for i in range(0, len(table), 8)]
+    bit = 8
+    while len(parts) > 1:
+        on = em.icmp("!=", em.and_(index, ir.Constant(ity, [ir.Constant(_I32, bit)] * 8)),
+                     ir.Constant(ity, [ir.Constant(_I32, 0)] * 8), signed=False, name="bit")
+        parts = [em.select(on, hi, lo, name="lookup") for lo, hi in zip(parts[::2], parts[1::2])]
+        bit *= 2
+    return parts[0]
+
+
+def lookup(em, vt: VType, table: list[float], index, features: frozenset[str]):
+    """``table[index mod len(table)]`` per lane (``table``: 2, 4, ... 32 floats; ``index``: i32
+    lanes of ``vt``'s width) from registers: VPERMPS/VPERMI2PS with AVX-512, VPERMPS and selects
+    with AVX2; None on other targets (a gather from memory does it there)."""
+    natives = []
+    if "avx512f" in features:
+        natives.append((16, lambda em, i: _lookup_512(em, table, i)))
+    if "avx2" in features:
+        natives.append((8, lambda em, i: _lookup_256(em, table, i)))
+    return by_native_width(em, vt.with_kind("Int"), [index], natives) if natives else None
