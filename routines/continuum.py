@@ -87,15 +87,31 @@ LOG2_INVC = tuple([1.0] + [float(np.float32(1.0 / (1.0 + (i + 0.5) / 32))) for i
 LOG2_LOGC = tuple(float(np.float32(-math.log2(c))) for c in LOG2_INVC)
 
 
-def _table_fit(degree: int, coefficients: tuple[str, ...], weighted: str, measured: str) -> Polynomial:
+def _table_fit(degree: int, coefficients: tuple[str, ...], weighted: str, measured: str,
+               form: str = "t", interval: tuple[str, str] = ("-0.0149254", "0.03125")) -> Polynomial:
+    lo, hi = interval
+    points = 32 if form == "t" else 8
     return Polynomial(
-        name=f"log2.table.t{degree}", function="log2(1+x)/x", weight="log2(1+x)/x",
-        interval=("-0.0149254", "0.03125"), coefficients=coefficients,
-        provenance=f"our Remez fitter, degree {degree} on [-0.0149254, 0.03125] (the range of r over the 32 "
-                   f"table points), relative error (python -m routines remez -d {degree} -r \"-0.0149254:0.03125\" "
+        name=f"log2.table.{form}{degree}", function="log2(1+x)/x", weight="log2(1+x)/x",
+        interval=interval, coefficients=coefficients,
+        provenance=f"our Remez fitter, degree {degree} on [{lo}, {hi}] (the range of r over the {points} "
+                   f"table points), relative error (python -m routines remez -d {degree} -r \"{lo}:{hi}\" "
                    f"\"log2(1+x)/x\" \"log2(1+x)/x\"), coefficients rounded to float32; max weighted error "
                    f"{weighted}; evaluated as (e + LOGC[i]) + r Q(r)",
         measured=measured)
+
+
+# The same with 8 points (``full-sN``), for targets whose register permute holds 8 floats (AVX2's
+# VPERMPS): the significand is folded first, z = m or m/2 in [1 - 1/32, 2 - 1/16), so that the point
+# c_0 = 1 sits in the middle of its subinterval [1 - 1/32, 1 + 1/16); c_i = 1 + i/8 for i = 1..7.
+# With t = bits(m) - bits(1 - 1/32): k = t >> 23 (1 where m >= 2 - 1/16, then z = m/2 and e + 1),
+# i = (t >> 20) mod 8, r = z INVC[i] - 1 in [-0.0555556, 0.0625], log2 x = (e + (k + LOGC[i])) + r Q(r)
+# (k = 1 only where LOGC[i] = 0, so k + LOGC[i] is exact).
+
+LOG2_FOLD_BITS = 3
+LOG2_FOLD_OFFSET = 0x3F780000  # the bits of 1 - 1/32
+LOG2_FOLD_INVC = tuple([1.0] + [float(np.float32(1.0 / (1.0 + i / 8))) for i in range(1, 8)])
+LOG2_FOLD_LOGC = tuple(float(np.float32(-math.log2(c))) for c in LOG2_FOLD_INVC)
 
 
 #: Q's of the table form by degree. Measured as LOG2_DEGREES' (``python -m routines continuum``).
@@ -103,6 +119,15 @@ LOG2_TABLE_DEGREES: dict[int, Polynomial] = {
     1: _table_fit(1, ("-7.136934e-1", "1.4427903"), "8.7605961e-5", "max 3.9992e-6 absolute, 33.1 ULP where |result| >= 1, on [1/16, 16)"),
     2: _table_fit(2, ("4.7232e-1", "-7.2141945e-1", "1.442696"), "7.5274255e-7", "max 2.6933e-7 absolute, 1.13 ULP where |result| >= 1, on [1/16, 16)"),
     3: _table_fit(3, ("-3.515587e-1", "4.8093793e-1", "-7.2134936e-1", "1.442695"), "6.8981065e-9", "max 2.6391e-7 absolute, 1.111 ULP where |result| >= 1, on [1/16, 16)"),
+}
+
+#: Q's of the 8-point folded form by degree (``full-s2``, ``full-s3``).
+LOG2_FOLD_DEGREES: dict[int, Polynomial] = {
+    2: _table_fit(2, ("4.780931e-1", "-7.222749e-1", "1.442698"), "1.2765044e-5", "max 1.2377e-6 absolute, 9.9 ULP where |result| >= 1, on [1/16, 16)", "s",
+                  ("-0.0555556", "0.0625")),
+    3: _table_fit(3, ("-3.5768524e-1", "4.818812e-1", "-7.213536e-1", "1.4426947"), "3.0064221e-7",
+                  "max 2.6525e-7 absolute, 1.33 ULP where |result| >= 1, on [1/16, 16)",
+                  "s", ("-0.0555556", "0.0625")),
 }
 
 #: the polynomial kinds each routine's variant names set
@@ -113,6 +138,7 @@ def _single(kind: str) -> dict[str, dict[str, int]]:
     names = {f"full-d{d}": {kind: d} for d in sorted(_TABLES[kind]) if d < FULL_DEGREE[kind]}
     if kind == "log2":
         names.update({f"full-t{q}": {"log2t": q} for q in sorted(LOG2_TABLE_DEGREES)})
+        names.update({f"full-s{q}": {"log2s": q} for q in sorted(LOG2_FOLD_DEGREES)})
     return names
 
 
@@ -122,7 +148,8 @@ def _pow() -> dict[str, dict[str, int]]:
     pairs.sort(key=lambda p: (p[0] + p[1], p[1]))  # fewer FMAs first
     names = {f"full-e{a}l{b}": {"exp2": a, "log2": b} for a, b in pairs}
     # log2 by the table: Q of degree 1 or 2 (2 already matches full's log2)
-    names.update({f"full-e{a}t{q}": {"exp2": a, "log2t": q} for a in sorted(EXP2_DEGREES) for q in (1, 2)})
+    names.update({f"full-e{a}t{q}": {"exp2": a, "log2t": q} for a in (3, 4, 5) for q in (1, 2)})
+    names.update({f"full-e{a}s{q}": {"exp2": a, "log2s": q} for a in (3, 4, 5) for q in (2, 3)})
     return names
 
 
@@ -156,11 +183,16 @@ def polynomial(kind: str) -> Polynomial:
     return table[_current.get().get(kind, FULL_DEGREE[kind])]
 
 
-def log2_table() -> Polynomial | None:
-    """Q of log2's table form where a variant in force asks for it (``full-t2``, pow's
-    ``full-e4t2``); None: full's centred form."""
-    degree = _current.get().get("log2t")
-    return None if degree is None else LOG2_TABLE_DEGREES[degree]
+def log2_table() -> tuple[str, Polynomial] | None:
+    """Log2's table form where a variant in force asks for it: ("t", Q) for the 32 points
+    (``full-t2``, pow's ``full-e4t2``), ("s", Q) for the 8 folded ones (``full-s3``); None: full's
+    centred form."""
+    now = _current.get()
+    if "log2t" in now:
+        return "t", LOG2_TABLE_DEGREES[now["log2t"]]
+    if "log2s" in now:
+        return "s", LOG2_FOLD_DEGREES[now["log2s"]]
+    return None
 
 
 # -- ranges a plan proved: the special-case paths a call site can drop ---------------------------

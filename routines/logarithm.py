@@ -34,8 +34,8 @@ from __future__ import annotations
 import typing
 
 from reactor import (
-    Any, As, Exponent, If, Lookup, MulAdd, Precision, Select, ShiftRightLogical, Significand, Variable, target_features,
-    vector_type,
+    Any, As, Exponent, If, Lookup, MulAdd, Precision, Select, ShiftRightArithmetic, ShiftRightLogical, Significand,
+    Variable, target_features, vector_type,
 )
 
 from . import accurate, continuum
@@ -50,9 +50,10 @@ def _full(exponent_plus, m):
     """Full precision from the significand m in [1, 2) and ``exponent_plus(k)``, e + k computed
     exactly in one operation: full's centred form, or where a continuum variant is in force
     (``routines.continuum``) its polynomial of lower degree or the table form."""
-    table_q = continuum.log2_table()
-    if table_q is not None:
-        return _by_table(exponent_plus(0.0), m, table_q)
+    table = continuum.log2_table()
+    if table is not None:
+        form, q = table
+        return (_by_table if form == "t" else _by_folded_table)(exponent_plus(0.0), m, q)
     u = m - 1.5
     return MulAdd(continuum.polynomial("log2")(u), MulAdd(-u, u, 0.25), u) + exponent_plus(0.5)
 
@@ -63,6 +64,29 @@ def _by_table(e, m, q):
     i = ShiftRightLogical(As(vector_type("Int", m.width), m), 23 - continuum.LOG2_TABLE_BITS)
     r = MulAdd(m, Lookup(continuum.LOG2_INVC, i), -1.0)
     return MulAdd(q(r), r, e + Lookup(continuum.LOG2_LOGC, i))
+
+
+def _by_folded_table(e, m, q):
+    """The 8-point form (``full-sN``): m folded to z = m or m/2 around 1, then as ``_by_table``."""
+    Int_, Float_ = vector_type("Int", m.width), vector_type("Float", m.width)
+    bits = As(Int_, m)
+    t = bits - continuum.LOG2_FOLD_OFFSET
+    k = ShiftRightLogical(t, 23) & 1                               # 1 where m >= 2 - 1/16 (a NaN m: 0)
+    i = ShiftRightLogical(t, 23 - continuum.LOG2_FOLD_BITS)
+    r = MulAdd(As(Float_, bits - (k << 23)), Lookup(continuum.LOG2_FOLD_INVC, i), -1.0)
+    return MulAdd(q(r), r, e + (Float_(k) + Lookup(continuum.LOG2_FOLD_LOGC, i)))
+
+
+def _folded_from_bits(bits, q):
+    """``_by_folded_table`` for positive normal x from its bits: x = 2^E z with z in [1 - 1/32,
+    2 - 1/16) read off t = bits - bits(1 - 1/32) directly (E = t >> 23, arithmetic), the same
+    E, z and i, so the same result, in fewer operations."""
+    Float_ = vector_type("Float", bits.width)
+    t = bits - continuum.LOG2_FOLD_OFFSET
+    z = As(Float_, bits - (t & -(1 << 23)))
+    i = ShiftRightLogical(t, 23 - continuum.LOG2_FOLD_BITS)
+    r = MulAdd(z, Lookup(continuum.LOG2_FOLD_INVC, i), -1.0)
+    return MulAdd(q(r), r, Float_(ShiftRightArithmetic(t, 23)) + Lookup(continuum.LOG2_FOLD_LOGC, i))
 
 
 def _relaxed(e, m):
@@ -94,7 +118,10 @@ def log2(x, precision: Precision = Precision.FULL):
     normal = positive_normal(x)
     biased = Float_(ShiftRightLogical(bits, 23))
     significand = As(Float_, (bits & 0x007FFFFF) | 0x3F800000)
-    if precision is Precision.FULL:
+    table = continuum.log2_table()
+    if precision is Precision.FULL and table is not None and table[0] == "s":
+        fast = _folded_from_bits(bits, table[1])
+    elif precision is Precision.FULL:
         fast = _full(lambda k: biased - (127.0 - k), significand)  # e + k: exact
     else:
         fast = _relaxed(biased - 127.0, significand - 1.0)

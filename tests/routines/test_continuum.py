@@ -36,15 +36,19 @@ def test_log2_variants_keep_their_stated_error(degree):
     assert np.max(np.abs(got - want)) <= _bound(continuum.LOG2_DEGREES[degree].measured)
 
 
-@pytest.mark.parametrize("degree", sorted(continuum.LOG2_TABLE_DEGREES))
-def test_log2_table_variants_keep_their_stated_error_and_bits_across_x86_levels(degree):
+TABLE_FORMS = [("t", q, p) for q, p in continuum.LOG2_TABLE_DEGREES.items()] + \
+    [("s", q, p) for q, p in continuum.LOG2_FOLD_DEGREES.items()]
+
+
+@pytest.mark.parametrize("form,degree,poly", TABLE_FORMS)
+def test_log2_table_variants_keep_their_stated_error_and_bits_across_x86_levels(form, degree, poly):
     """The table form: its stated error, and the same bits built for AVX-512 (VPERMI2PS), AVX2
     (VPERMPS and selects) and without AVX-512 the integer-bit reduction; SSE4 (no FMA, tables
     gathered from memory) within the same bound."""
     x = _floats(1 / 16, 16.0, 7)
     want = np.log2(x.astype(np.float64))
-    bound = _bound(continuum.LOG2_TABLE_DEGREES[degree].measured)
-    got = {t: routines.jit("log2", precision=f"full-t{degree}", target=t)(x) for t in ("host", "avx2", "sse4")}
+    bound = _bound(poly.measured)
+    got = {t: routines.jit("log2", precision=f"full-{form}{degree}", target=t)(x) for t in ("host", "avx2", "sse4")}
     for t, y in got.items():
         assert np.max(np.abs(y.astype(np.float64) - want)) <= bound * (1.5 if t == "sse4" else 1.0), t
     assert np.array_equal(got["host"].view(np.uint32), got["avx2"].view(np.uint32))
@@ -54,14 +58,18 @@ def test_log2_tables_are_correctly_rounded():
     mpmath = pytest.importorskip("mpmath")
     mpmath.mp.prec = 100
     assert len(continuum.LOG2_INVC) == len(continuum.LOG2_LOGC) == 1 << continuum.LOG2_TABLE_BITS
-    assert continuum.LOG2_INVC[0] == 1.0 and continuum.LOG2_LOGC[0] == 0.0
-    for i, (inv, logc) in enumerate(zip(continuum.LOG2_INVC, continuum.LOG2_LOGC)):
-        assert inv == float(np.float32(inv)) and logc == float(np.float32(logc))
-        exact = -mpmath.log(mpmath.mpf(inv), 2)
-        below, above = sorted((logc, float(np.nextafter(np.float32(logc), np.float32(exact)))))
-        assert abs(exact - logc) <= abs(exact - (above if logc == below else below)), i
-        if i:  # 1/c_i, c_i the middle of its subinterval, rounded to float32
-            assert inv == float(np.float32(1 / (1 + (i + 0.5) / 32)))
+    assert len(continuum.LOG2_FOLD_INVC) == len(continuum.LOG2_FOLD_LOGC) == 1 << continuum.LOG2_FOLD_BITS
+    assert np.uint32(continuum.LOG2_FOLD_OFFSET).view(np.float32) == np.float32(1 - 1 / 32)
+    for middle, invc, logcs in ((lambda i: 1 + (i + 0.5) / 32, continuum.LOG2_INVC, continuum.LOG2_LOGC),
+                                (lambda i: 1 + i / 8, continuum.LOG2_FOLD_INVC, continuum.LOG2_FOLD_LOGC)):
+        assert invc[0] == 1.0 and logcs[0] == 0.0
+        for i, (inv, logc) in enumerate(zip(invc, logcs)):
+            assert inv == float(np.float32(inv)) and logc == float(np.float32(logc))
+            exact = -mpmath.log(mpmath.mpf(inv), 2)
+            below, above = sorted((logc, float(np.nextafter(np.float32(logc), np.float32(exact)))))
+            assert abs(exact - logc) <= abs(exact - (above if logc == below else below)), i
+            if i:  # 1/c_i, c_i the middle of its subinterval, rounded to float32
+                assert inv == float(np.float32(1 / middle(i)))
 
 
 def test_the_table_form_is_cheaper_than_full_by_the_model_at_full_accuracy():
