@@ -1,17 +1,26 @@
 """The precision continuum: variants of exp2 and log2 (and so of exp, log and pow) between the tiers.
 
-A variant keeps full precision's form (docs/search.md: ``rscalef`` for exp2, ``m1mc`` for log2:
-the same reduction, the same exact scaling and every special value as full) and evaluates a
-polynomial of lower degree, fitted by our Remez fitter on full's interval with full's weight.
-Each degree removes one FMA from the routine's dependency chain. ``reactor.plan`` tries them at
-every call site, between ``relaxed`` and ``full``, and keeps the cheapest whose stored outputs
-are those of the most accurate build (docs/plan.md); a call may also ask for one itself:
-``routines.exp2(x, precision="full-d3")``.
+Two kinds of variant, both keeping every special value and exact point of full precision:
 
-Names: ``full-dN`` for exp2, exp, log2 and log (the polynomial's degree; full itself is d5 for
-exp2 and d6 for log2), ``full-eAlB`` for pow (exp2's degree A, log2's degree B). Each polynomial
-below states its fit and the error measured on the compiled routine over a stated domain
-(``python -m routines continuum`` measures them all again, with their modelled and timed cost).
+* **Lower degree.** Full's form (docs/search.md: ``rscalef`` for exp2, ``m1mc`` for log2: the same
+  reduction and exact scaling) with a polynomial of lower degree, fitted by our Remez fitter on
+  full's interval with full's weight. Each degree removes one FMA.
+* **Another reduction: log2 by a table.** The significand is reduced to r = m/c - 1 around the
+  nearest of 32 points c (or 8, after folding m around 1), with 1/c and log2(c) read from
+  registers (``reactor.Lookup``: one VPERMI2PS with AVX-512, one VPERMPS for 8 points with AVX2),
+  so a short polynomial in the small r suffices: ``full-t2`` is as accurate as full with 4 FMAs
+  where full takes 8.
+
+``reactor.plan`` tries them at every call site, between ``relaxed`` and ``full``, and keeps the
+cheapest whose stored outputs are those of the most accurate build (docs/plan.md); a call may
+also ask for one itself: ``routines.exp2(x, precision="full-d3")``.
+
+Names, least accurate first in ``VARIANTS``: ``full-dN`` for exp2, exp, log2 and log (the
+polynomial's degree; full itself is d5 for exp2 and d6 for log2); ``full-tN`` (32 points) and
+``full-sN`` (8 points) for log2 and log (Q's degree); ``full-eAlB``, ``full-eAtB`` and
+``full-eAsB`` for pow (exp2's degree A, then log2's variant). Each polynomial below states its fit
+and the error measured on the compiled routine over a stated domain (``python -m routines
+continuum`` measures them all again, with their modelled and timed cost).
 """
 from __future__ import annotations
 
@@ -19,6 +28,7 @@ import contextlib
 import contextvars
 import itertools
 import math
+import re
 import typing
 
 import numpy as np
@@ -134,23 +144,46 @@ LOG2_FOLD_DEGREES: dict[int, Polynomial] = {
 _ONE = {"exp2": "exp2", "exp": "exp2", "log2": "log2", "log": "log2"}
 
 
+#: full's own errors on the continuum's domains (the comments of EXP2_DEGREES and LOG2_DEGREES)
+_FULL_ERRORS = {EXP2_FULL.name: 0.92, LOG2_FULL.name: 1.9e-7}
+
+
+def _measured(p: Polynomial) -> float:
+    """The error a variant's polynomial states first (exp2's in ULP, log2's absolute)."""
+    found = re.search(r"max ([0-9.e+-]+)", p.measured)
+    return float(found.group(1)) if found else _FULL_ERRORS[p.name]
+
+
 def _single(kind: str) -> dict[str, dict[str, int]]:
-    names = {f"full-d{d}": {kind: d} for d in sorted(_TABLES[kind]) if d < FULL_DEGREE[kind]}
+    """exp2's or log2's variants (exp's and log's), least accurate first."""
+    names = {f"full-d{d}": (kind, d) for d in sorted(_TABLES[kind]) if d < FULL_DEGREE[kind]}
     if kind == "log2":
-        names.update({f"full-t{q}": {"log2t": q} for q in sorted(LOG2_TABLE_DEGREES)})
-        names.update({f"full-s{q}": {"log2s": q} for q in sorted(LOG2_FOLD_DEGREES)})
-    return names
+        names.update({f"full-t{q}": ("log2t", q) for q in sorted(LOG2_TABLE_DEGREES)})
+        names.update({f"full-s{q}": ("log2s", q) for q in sorted(LOG2_FOLD_DEGREES)})
+    polys = {"exp2": EXP2_DEGREES, "log2": LOG2_DEGREES, "log2t": LOG2_TABLE_DEGREES, "log2s": LOG2_FOLD_DEGREES}
+    ordered = sorted(names.items(), key=lambda item: -_measured(polys[item[1][0]][item[1][1]]))
+    return {name: {k: d} for name, (k, d) in ordered}
 
 
 def _pow() -> dict[str, dict[str, int]]:
-    pairs = [(a, b) for a, b in itertools.product(sorted(EXP2_DEGREES), sorted(LOG2_DEGREES))
-             if (a, b) != (FULL_DEGREE["exp2"], FULL_DEGREE["log2"])]
-    pairs.sort(key=lambda p: (p[0] + p[1], p[1]))  # fewer FMAs first
-    names = {f"full-e{a}l{b}": {"exp2": a, "log2": b} for a, b in pairs}
-    # log2 by the table: Q of degree 1 or 2 (2 already matches full's log2)
-    names.update({f"full-e{a}t{q}": {"exp2": a, "log2t": q} for a in (3, 4, 5) for q in (1, 2)})
-    names.update({f"full-e{a}s{q}": {"exp2": a, "log2s": q} for a in (3, 4, 5) for q in (2, 3)})
-    return names
+    """pow's variants, least accurate first by the error their halves state (exp2's ULP as a
+    relative error, log2's absolute error times ln 2: its share of the result's relative error at
+    |y| = 1)."""
+    # log2's degree b from exp2's a to a + 2: their errors in pow's result are alike there (an
+    # unbalanced pair costs for accuracy its weaker half throws away), and planning stays in time
+    names: dict[str, tuple[int, str, int]] = {}
+    for a, b in itertools.product(sorted(EXP2_DEGREES), sorted(LOG2_DEGREES)):
+        if 0 <= b - a <= 2 and (a, b) != (FULL_DEGREE["exp2"], FULL_DEGREE["log2"]):
+            names[f"full-e{a}l{b}"] = (a, "log2", b)
+    for a in (3, 4, 5):  # log2 by a table: Q of degree 1 or 2 (32 points), 2 or 3 (8 points)
+        names.update({f"full-e{a}t{q}": (a, "log2t", q) for q in (1, 2)})
+        names.update({f"full-e{a}s{q}": (a, "log2s", q) for q in (2, 3)})
+    logs = {"log2": LOG2_DEGREES, "log2t": LOG2_TABLE_DEGREES, "log2s": LOG2_FOLD_DEGREES}
+
+    def error(item) -> float:
+        a, kind, b = item[1]
+        return _measured(EXP2_DEGREES[a]) * 2.0 ** -24 + _measured(logs[kind][b]) * math.log(2)
+    return {name: {"exp2": a, kind: b} for name, (a, kind, b) in sorted(names.items(), key=error, reverse=True)}
 
 
 #: every routine's variants: name -> {polynomial kind: degree}, cheapest first
