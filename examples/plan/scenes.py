@@ -1,6 +1,6 @@
 """Scenes planned by ``reactor.plan``: each call site's cheapest tier that changes no stored output.
 
-    python examples/plan/scenes.py [--out DIR] [--size N] [--only NAME ...] [--target avx2]
+    python examples/plan/scenes.py [--out DIR] [--size N] [--only NAME ...] [--target avx2 [--machine zen3]]
 
 Each scene is a kernel, the domain of its inputs and the formats it is stored in. For every
 (scene, format) the planner picks each routine call site's tier so that the stored output is
@@ -116,20 +116,21 @@ def scenes(size: int, target: str | None = None) -> list[tuple[str, object, dict
     return found
 
 
-def run(size: int = 128, only=None, target: str | None = None) -> dict:
-    """Plan every scene for every format; the figures as a dict (see the module docstring)."""
+def run(size: int = 128, only=None, target: str | None = None, machine: str | None = None) -> dict:
+    """Plan every scene for every format; the figures as a dict (see the module docstring).
+    ``machine``: the cost model's table the plans rank builds by (None: this host's)."""
     results = []
     with reactor.options():
         for name, u, inputs, formats, timing in scenes(size, target):
             if only and name not in only:
                 continue
             for fmt in formats:
-                p = reactor.plan(u, inputs=inputs, output=fmt, timing_rows=timing)
+                p = reactor.plan(u, inputs=inputs, output=fmt, timing_rows=timing, machine=machine)
                 results.append({"scene": name, "format": fmt, "plan": p.to_json(), "text": str(p),
                                 "speedup": p.times_ms["all full"] / p.times_ms["plan"],
                                 "speedup_correct": p.times_ms["all correct"] / p.times_ms["plan"],
                                 "model_speedup": p.cycles["all full"] / p.cycles["plan"]})
-    return {"size": size, "target": target or "host", "results": results}
+    return {"size": size, "target": target or "host", "machine": machine or "host", "results": results}
 
 
 def table(r: dict) -> str:
@@ -192,10 +193,12 @@ def main(argv=None) -> dict:
     parser.add_argument("--size", type=int, default=128, help="width of the ports' renders (raymarch: half)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="these scenes only")
     parser.add_argument("--target", help="build and plan for this x86 level (e.g. avx2; default: this CPU)")
+    parser.add_argument("--machine", help="rank builds by this cost table (e.g. zen3 for an AVX2 host; "
+                                          "default: this CPU's)")
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     t0 = time.perf_counter()
-    r = run(args.size, args.only, args.target)
+    r = run(args.size, args.only, args.target, args.machine)
     print(table(r))
     for x in r["results"]:
         print("\n" + x["text"])

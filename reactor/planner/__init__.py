@@ -1,7 +1,7 @@
 """``reactor.plan``: each routine call site's cheapest tier that leaves a scene's output unchanged.
 
     plan = reactor.plan(shade, inputs={"x": "unorm8", "k": Range(0.5, 4.0)}, output="unorm8")
-    print(plan)                 # per call site: tier, the tier below and what it changes, cost
+    print(plan)                 # per call site: tier, the nearest cheaper point and what it changes, cost
     fast = plan.ufunc           # the planned kernel (the same body, built with plan.sites)
     plan.save("shade.plan.json")
     fast = reactor.Plan.load("shade.plan.json").apply(shade)   # no re-planning; refused if the
@@ -92,16 +92,18 @@ class Plan:
     timing_rows: int
     seconds: float  # planning time
     builds: int
+    machine: str = "host"  # the cost model's table the plan ranked its builds by
     ufunc: typing.Any = dataclasses.field(default=None, repr=False, compare=False)
 
     # -- reading ------------------------------------------------------------------------
     def __str__(self) -> str:
         lines = [f"plan for {self.kernel}: output {Output(self.output).name}, {self.proof} over {self.domain}",
                  f"  ({self.checked:,} rows checked; {self.builds} builds, {self.seconds:.1f} s)"]
-        lines.append(f"  {'site':<6} {'':<22} {'tier':<10} {'saves':>6}  the tier below (saves: modelled "
+        lines.append(f"  {'site':<6} {'':<22} {'tier':<10} {'saves':>6}  the nearest cheaper point (saves: modelled "
                      f"cycles/element, this site alone)")
         lines += ["  " + r.text() for r in self.reports]
-        lines.append(f"  {'build':<14} {'changes':>9} {'cycles/el':>10} {'ms':>9}")
+        lines.append(f"  {'build':<14} {'changes':>9} {'cycles/el':>10} {'ms':>9}"
+                     + ("" if self.machine == "host" else f"   (cycles modelled for {self.machine})"))
         for label in self.cycles:
             ms = self.times_ms.get(label)
             lines.append(f"  {label:<14} {self.changes.get(label, 0):>9,} {self.cycles[label]:>10.2f} "
@@ -154,16 +156,24 @@ class Plan:
 
 def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1 << 18, seed: int = 0,
          max_rows: int = MAX_ROWS, timing_rows: int = 1 << 20, fma: bool | None = None,
-         progress: bool = False) -> Plan:
+         progress: bool = False, machine: str | None = None) -> Plan:
     """Plan the routine call sites of the reactor kernel ``ufunc`` (see the module docstring).
 
     ``samples``: rows of a sampled check; ``max_rows``: the largest domain checked exhaustively;
     ``timing_rows``: elements each build is timed on (the check rows, repeated); ``fma``: the
-    FMA setting of every build (None: the kernel's)."""
+    FMA setting of every build (None: the kernel's); ``machine``: the cost model's table the
+    builds are ranked by (``reactor.cost``: "zen3", "skylake-x" ...; None: this host's), to plan
+    for the CPU a kernel built for another ``target`` will run on (the times stay this host's)."""
     from ..kernels.kernel import kernel_of
     t0 = time.perf_counter()
     log = print if progress else None
-    search = Search(ufunc, dict(inputs), output, samples=samples, seed=seed, max_rows=max_rows, fma=fma, log=log)
+    if machine is not None:
+        from ..cost.model import MACHINES, machine_for
+        if not machine_for(machine).known:
+            raise ReactorError(f"plan: no cost table for machine {machine!r}; the tables are "
+                               f"{', '.join(k for k in MACHINES if k != 'generic')} (or an LLVM CPU name)")
+    search = Search(ufunc, dict(inputs), output, samples=samples, seed=seed, max_rows=max_rows, fma=fma, log=log,
+                    machine=machine)
     search.sharpen()
     alone = search.alone()
     sites, best = search.together(alone)
@@ -179,7 +189,7 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
             raise ReactorError(f"plan for '{search.kernel.name}': the chosen sites change {again.changed} outputs "
                                f"on a fresh sample (e.g. {again.example}); declare the domain more closely or "
                                f"sample more (samples=)")
-    below = search.below(sites)
+    below = search.below(sites, alone)
     reports = []
     chosen = {(s.where, s.routine): s.precision for s in sites}
     for where, routine in search.sites:
@@ -208,7 +218,7 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
     times = _time(search, ufuncs, timing_rows)
     result = Plan(search.kernel.name, sites, reports, output if not isinstance(output, Output) else output.spec,
                   proof, checked, search.check.description, fingerprint(kernel_of(search.reference.ufunc), sites),
-                  cycles, changes, times, timing_rows, 0.0, search.builds)
+                  cycles, changes, times, timing_rows, 0.0, search.builds, machine or "host")
     result.ufunc = best.ufunc
     result.seconds = time.perf_counter() - t0
     return result
@@ -233,8 +243,10 @@ def _rebuild(k, build_kernel, sites, precision):
 
 def _time(search: Search, ufuncs: dict, rows: int, repeats: int = 41) -> dict:
     """Median time (ms) of one call of each distinct build on ``rows`` elements (the check rows
-    repeated), on one thread, the builds interleaved in every round (same run); labels whose builds
-    are the same machine code share one time (a plan that lowers nothing is not "faster")."""
+    repeated), on one thread, the builds interleaved in every round (same run), each writing into
+    the arrays its warm-up call returned (a fresh array per call would time the allocator's page
+    faults, which vary with its state, not with the build); labels whose builds are the same
+    machine code share one time (a plan that lowers nothing is not "faster")."""
     from ..kernels.kernel import kernel_of
     from ..kernels.parallel import configure, settings
 
@@ -249,12 +261,14 @@ def _time(search: Search, ufuncs: dict, rows: int, repeats: int = 41) -> dict:
     configure(threads=1)  # the machine's other core is someone else's noise
     try:
         with np.errstate(all="ignore"):
-            for u in distinct.values():
-                u(*args)  # warm
+            outs = {}
+            for key, u in distinct.items():  # warm, and the arrays every timed call writes
+                got = u(*args)
+                outs[key] = got if isinstance(got, tuple) else (got,)
             for _ in range(repeats):
                 for key, u in distinct.items():
                     t0 = time.perf_counter()
-                    u(*args)
+                    u(*args, out=outs[key])
                     samples[key].append(time.perf_counter() - t0)
     finally:
         configure(threads=saved[0], threshold=saved[1])

@@ -64,9 +64,10 @@ class Search:
     """The state of one planning run (see the module docstring)."""
 
     def __init__(self, ufunc, inputs: dict, output, *, samples: int, seed: int, max_rows: int,
-                 fma: bool | None, log: typing.Callable[[str], None] | None):
+                 fma: bool | None, log: typing.Callable[[str], None] | None, machine: str | None = None):
         from ..kernels.kernel import kernel_of
         self.kernel = kernel_of(ufunc)
+        self.machine = machine
         self.log = log or (lambda text: None)
         self.output = output if isinstance(output, Output) else Output(output)
         names = list(self.kernel.signature.names)
@@ -118,7 +119,7 @@ class Search:
                              target=b.target.name, cache=b.cache, precision=precision, sites=sites)
         self.build_seconds += time.perf_counter() - t0
         self.builds += 1
-        return Candidate(tuple(sites), ufunc, cycles_per_element(self.kernel_of(ufunc)), -1, None)
+        return Candidate(tuple(sites), ufunc, cycles_per_element(self.kernel_of(ufunc), self.machine), -1, None)
 
     def _typed(self, check: Check) -> Check:
         """The check's columns in the kernel's input dtypes (the values a scene passes)."""
@@ -258,27 +259,30 @@ class Search:
                 current, best = trial, cand
         return tuple(sorted(current.values())), best
 
-    def below(self, sites: tuple) -> dict:
-        """For each site not at the least accurate point of its ``ladder``: the plan with it one
-        point lower, compared."""
+    def below(self, sites: tuple, alone: dict) -> dict:
+        """For each site: the plan with it at the nearest cheaper point of its ladder (by the
+        modelled cost each point had alone: the dearest of those cheaper than its own), compared;
+        None where no point is cheaper. The search took the cheapest harmless point, so this one
+        changes outputs (alone, or beside the other sites) unless the model ranks it only alone."""
         chosen = {(s.where, s.routine): s.precision for s in sites}
         report: dict[tuple, tuple[str, Candidate] | None] = {}
         for where, routine in self.sites:
             tier = chosen.get((where, routine), self.top)
+            cycles = {t: cand.cycles for t, cand in alone.get((where, routine), [])}
+            own = cycles.get(tier, self.reference.cycles)
             steps = ladder(routine)
-            index = steps.index(tier)
-            if index == 0:
+            cheaper = sorted((c, -steps.index(t), t) for t, c in cycles.items() if c < own - 1e-9)
+            if not cheaper:
                 report[(where, routine)] = None
                 continue
+            lower = cheaper[-1][2]
             trial = dict(chosen)
-            trial[(where, routine)] = steps[index - 1]
+            trial[(where, routine)] = lower
             try:
-                report[(where, routine)] = (steps[index - 1],
-                                            self.compare(self.build(_site_tuple(trial, self.fma), self.top)))
+                report[(where, routine)] = (lower, self.compare(self.build(_site_tuple(trial, self.fma), self.top)))
             except ReactorError:
                 report[(where, routine)] = None
         return report
-
 
 def authored(kernel) -> dict:
     """{(where, routine): tier} of the call sites whose tier the kernel's source sets itself."""
@@ -300,14 +304,15 @@ def _code(cand) -> str:
 _cycles: dict[str, float] = {}
 
 
-def cycles_per_element(kern) -> float:
-    """The dataflow model's cycles per element of a kernel's vector loop on the host's table
-    (``reactor.cost``). Kept in memory and in the disk cache under the machine code's key and
-    reactor's sources (the model reads the optimized IR, which a kernel from a cache would
-    otherwise trace and optimize again: nearly all of a re-plan's time)."""
+def cycles_per_element(kern, machine: str | None = None) -> float:
+    """The dataflow model's cycles per element of a kernel's vector loop on ``machine``'s table
+    (``reactor.cost``; None: the host's). Kept in memory and in the disk cache under the machine
+    code's key, the table and reactor's sources (the model reads the optimized IR, which a kernel
+    from a cache would otherwise trace and optimize again: nearly all of a re-plan's time)."""
     from ..jit import cache
     from ..kernels.recipe import library_digest
-    key = "m" + hashlib.sha256(f"cycles|{kern.code.key}|{library_digest()}".encode()).hexdigest()[:40]
+    table = "" if machine is None else f"|{machine}"
+    key = "m" + hashlib.sha256(f"cycles|{kern.code.key}|{library_digest()}{table}".encode()).hexdigest()[:40]
     if key not in _cycles:
         stored = cache.disk_get(key, ".m") if kern.build.cache else None
         try:
@@ -315,7 +320,7 @@ def cycles_per_element(kern) -> float:
         except ValueError:
             _cycles[key] = float("nan")
         if _cycles[key] != _cycles[key]:  # not stored (or unreadable): model it
-            _cycles[key] = float(kernel_cycles(kern))
+            _cycles[key] = float(kernel_cycles(kern, machine))
             if kern.build.cache:
                 cache.disk_put(key, repr(_cycles[key]).encode(), ".m")
     return _cycles[key]
