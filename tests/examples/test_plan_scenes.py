@@ -26,7 +26,9 @@ def test_scenes_plan_with_no_change(tmp_path):
         if not above:
             assert p["cycles"]["plan"] <= p["cycles"]["all full"] + 1e-9
     blit = by[("srgb_blit", "unorm8")]["plan"]
-    assert [s["tier"] for s in blit["reports"]] == ["relaxed", "relaxed"]
+    # relaxed changes no 8-bit code: both sites go below full (relaxed, or a continuum point the host's
+    # model ranks as cheap, e.g. full-e2l2 where AVX2's relaxed pow costs as much)
+    assert all(s["tier"] == "relaxed" or s["tier"].startswith("full-") for s in blit["reports"])
     # what holds on every host: relaxing both sites is modelled cheaper. How much cheaper depends on the
     # host's cost table and instructions (1.21x on Rocket Lake, 1.35x timed on Zen 3): a benchmark's
     # figure (python examples/plan/scenes.py), not this test's
@@ -39,5 +41,7 @@ def test_scenes_plan_with_no_change(tmp_path):
     assert exposure["exp2"] in ("relaxed", "full-d2")
     assert exposure["pow"] == "full" or exposure["pow"].startswith("full-")
     assert np.isfinite(by[("gltf_pbr", "unorm8")]["speedup"])
-    half16 = by[("linear_half", "unorm16")]["plan"]        # full changes one unorm16 code: raised
-    assert half16["changes"]["all full"] > 0 and [s["tier"] for s in half16["reports"]] == ["faithful"]
+    half16 = by[("linear_half", "unorm16")]["plan"]        # full changes one unorm16 code: not kept at full
+    # (raised to faithful, or a table-form variant at least as accurate there and cheaper)
+    assert half16["changes"]["all full"] > 0 and half16["changes"]["plan"] == 0
+    assert [s["tier"] for s in half16["reports"]] != ["full"]
