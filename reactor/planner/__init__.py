@@ -241,12 +241,16 @@ def _rebuild(k, build_kernel, sites, precision):
                         sites=sites)
 
 
+_SLACK = 4096  # elements of room for the timed calls' output offsets (multiples of 16: 64 bytes for float32)
+
+
 def _time(search: Search, ufuncs: dict, rows: int, repeats: int = 41) -> dict:
     """Median time (ms) of one call of each distinct build on ``rows`` elements (the check rows
-    repeated), on one thread, the builds interleaved in every round (same run), each writing into
-    the arrays its warm-up call returned (a fresh array per call would time the allocator's page
-    faults, which vary with its state, not with the build); labels whose builds are the same
-    machine code share one time (a plan that lowers nothing is not "faster")."""
+    repeated), on one thread, the builds interleaved in every round (same run); labels whose builds
+    are the same machine code share one time (a plan that lowers nothing is not "faster"). Each
+    call writes into memory allocated once, at an offset drawn per call: a fresh array per call
+    would time the allocator's page faults, and one fixed array a fixed placement against the
+    inputs (a store stream 4 KiB apart from a load stream slows every call of that one build)."""
     from ..kernels.kernel import kernel_of
     from ..kernels.parallel import configure, settings
 
@@ -261,14 +265,18 @@ def _time(search: Search, ufuncs: dict, rows: int, repeats: int = 41) -> dict:
     configure(threads=1)  # the machine's other core is someone else's noise
     try:
         with np.errstate(all="ignore"):
-            outs = {}
-            for key, u in distinct.items():  # warm, and the arrays every timed call writes
+            spans = {}
+            for key, u in distinct.items():  # warm, and the memory every timed call writes into
                 got = u(*args)
-                outs[key] = got if isinstance(got, tuple) else (got,)
+                spans[key] = [np.empty((len(g) + _SLACK,) + g.shape[1:], g.dtype)
+                              for g in (got if isinstance(got, tuple) else (got,))]
+            rng = np.random.default_rng(0)
             for _ in range(repeats):
                 for key, u in distinct.items():
+                    out = tuple(b[o:o + len(b) - _SLACK] for b in spans[key]
+                                for o in [int(rng.integers(0, _SLACK // 16)) * 16])
                     t0 = time.perf_counter()
-                    u(*args, out=outs[key])
+                    u(*args, out=out)
                     samples[key].append(time.perf_counter() - t0)
     finally:
         configure(threads=saved[0], threshold=saved[1])
