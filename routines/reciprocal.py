@@ -14,7 +14,10 @@ reciprocal (inf + inf * -inf). Wherever the refined value is NaN the estimate
 is kept, which is exactly right in all these cases, and for NaN inputs (and
 negative inputs of rsqrt) the estimate is NaN too.
 Relaxed precision uses the estimate alone: its error is at most 1/16 (AVX-512)
-or 3/8 of a binary16 ULP.
+or 3/8 of a binary16 ULP. Where a plan proved the operand's range (``Site.ranges``,
+``routines.continuum.operand_range``) excludes every such case, the keep-the-estimate select is
+not emitted: rsqrt of x in (0, +inf), rcp of a normal x of either sign (1/x normal or
+subnormal, never infinite), relaxed sqrt of x in (0, +inf).
 
 The faithful and correct tiers are correctly rounded: 1/x and sqrt(x) are single IEEE
 operations, and rsqrt is 1/sqrt(x) in float64 (two roundings of relative 2^-53) rounded
@@ -35,11 +38,26 @@ from __future__ import annotations
 
 from reactor import IsNan, MulAdd, Precision, RcpApprox, RsqrtApprox, Select, Sqrt, target_features, vector_type
 
+from . import continuum
 from .base import float_value, routine
+
+_MIN_NORMAL, _MIN_SUBNORMAL, _MAX_FINITE = 2.0 ** -126, 2.0 ** -149, 3.4028234663852886e38
 
 
 def _estimates_exact_at_edges() -> bool:
     return "avx512f" in target_features()
+
+
+def _proved_positive(routine: str) -> bool:
+    """A plan proved every operand of this call positive and finite (no NaN)."""
+    span = continuum.operand_range(routine)
+    return span is not None and span.within(_MIN_SUBNORMAL, _MAX_FINITE)
+
+
+def _proved_normal(routine: str) -> bool:
+    """A plan proved every operand of this call normal, all of one sign (no zero, infinity or NaN)."""
+    span = continuum.operand_range(routine)
+    return span is not None and (span.within(_MIN_NORMAL, _MAX_FINITE) or span.within(-_MAX_FINITE, -_MIN_NORMAL))
 
 
 def _exact_tier(precision) -> bool:
@@ -60,6 +78,8 @@ def rcp(x, precision: Precision = Precision.FULL):
     if precision is Precision.RELAXED:
         return r.named("rcp")
     e = MulAdd(-x, r, 1.0)
+    if _proved_normal("rcp"):  # the step is never NaN there
+        return MulAdd(r, e, r).named("rcp")
     return _keep_estimate_where_nan(r, MulAdd(r, e, r)).named("rcp")
 
 
@@ -76,6 +96,8 @@ def rsqrt(x, precision: Precision = Precision.FULL):
     if precision is Precision.RELAXED:
         return r.named("rsqrt")
     e = MulAdd(-(x * r), r, 1.0)
+    if _proved_positive("rsqrt"):  # the step is never NaN there
+        return MulAdd(r * 0.5, e, r).named("rsqrt")
     return _keep_estimate_where_nan(r, MulAdd(r * 0.5, e, r)).named("rsqrt")
 
 
@@ -86,4 +108,6 @@ def sqrt(x, precision: Precision = Precision.FULL):
     if precision is not Precision.RELAXED or not _estimates_exact_at_edges():
         return Sqrt(x).named("sqrt")
     s = x * RsqrtApprox(x)
+    if _proved_positive("sqrt"):  # x * rsqrt(x) is 0 * inf only at 0 and +inf
+        return s.named("sqrt")
     return Select(IsNan(s) & (x >= 0.0), x, s).named("sqrt")

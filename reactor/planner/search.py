@@ -236,10 +236,11 @@ class Search:
         return _site_tuple({k: v for k, v in chosen.items() if v != self.top}, self.fma), best
 
     def restrict(self, sites: tuple, best: Candidate, ranges: dict) -> tuple[tuple, Candidate]:
-        """On an exhaustive check only: each site at full or a point of the continuum, built knowing
-        the ranges its operands were proved in (``ranges.site_ranges``, widened by 2^-20), so that it
-        drops the special-case paths they exclude (exp2's subnormal and overflow paths, log2's
-        general one, pow's NaN select); kept where it changes nothing and is cheaper code."""
+        """On an exhaustive check only: each site at relaxed, full or a point of the continuum, built
+        knowing the ranges its operands were proved in (``ranges.site_ranges``, widened by 2^-20), so
+        that it drops the special-case paths they exclude (exp2's subnormal and overflow paths, log2's
+        general one, pow's NaN select, the Newton step's NaN select of rsqrt and rcp, relaxed sqrt's
+        zero and infinity select); kept where it changes nothing and is cheaper code."""
         if not self.check.exhaustive:
             return sites, best
         current = {(s.where, s.routine): s for s in sites}
@@ -247,7 +248,7 @@ class Search:
             site = current.get((where, routine))
             tier = site.precision if site is not None else self.top
             spans = ranges.get((where, routine))
-            if not (tier == "full" or tier.startswith("full-")) or not spans or \
+            if not (tier in ("relaxed", "full") or tier.startswith("full-")) or not spans or \
                     not all(r.known and r.seen for r in spans):
                 continue
             trial = dict(current)

@@ -11,6 +11,7 @@ from reactor.cost import kernel_cycles
 from reactor.errors import ReactorError
 from reactor.planner.ranges import site_ranges
 from reactor.planner.search import Search
+from reactor.targets import get_target
 from routines import glsl as gl
 
 
@@ -69,6 +70,28 @@ def test_a_site_built_for_its_range_drops_special_paths_and_keeps_its_bits_there
     assert kernel_cycles(reactor.kernel_of(ranged)) < kernel_cycles(reactor.kernel_of(base))
     # exp2's subnormal lanes and log2's special lanes were branches: gone
     assert reactor.kernel_of(ranged).code.ir_text.count("br i1") < reactor.kernel_of(base).code.ir_text.count("br i1")
+
+
+def _lengths(x: Float, y: Float) -> Float:
+    return gl.inversesqrt(x * x + y * y) + routines.rcp(x + 2.0)
+
+
+def test_rsqrt_and_rcp_built_for_a_proved_range_drop_the_newton_steps_nan_select():
+    """AVX-512's estimates refined by one Newton step keep the estimate where the step gives NaN
+    (0, inf, subnormal reciprocals): not needed where a plan proved the operand away from them."""
+    base = reactor.kernel(_lengths, name="lengths", target="avx512")
+    calls = reactor.kernel_of(base).routines
+    where = {c.name: c.where for c in calls}
+    assert set(where) == {"rsqrt", "rcp"}
+    ranged = reactor.kernel(_lengths, name="lengths", target="avx512", sites=[
+        Site(where["rsqrt"], "rsqrt", "full", None, ((1e-4, 2.0, False),)),
+        Site(where["rcp"], "rcp", "full", None, ((2.0, 3.0, False),))])
+    count = lambda k: reactor.kernel_of(k).code.ir_text.count("fcmp uno")  # noqa: E731 - IsNan
+    assert count(base) > 0 and count(ranged) == 0  # (the vector loop and the tail each had them)
+    assert kernel_cycles(reactor.kernel_of(ranged)) < kernel_cycles(reactor.kernel_of(base))
+    if "avx512f" in get_target("host").feature_set:  # runs here: the same bits there
+        x = (np.arange(1, 1 << 12, dtype=np.float32) / (1 << 12))
+        np.testing.assert_array_equal(base(x, x[::-1]), ranged(x, x[::-1]))
 
 
 def test_site_ranges_are_checked():
