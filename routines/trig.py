@@ -96,6 +96,7 @@ from reactor import (
     Variable, vector_type,
 )
 
+from . import continuum
 from . import polynomials as P
 from .base import float_value, nan_rule, routine
 from .reciprocal import rcp, sqrt
@@ -248,7 +249,8 @@ def _parts(precision) -> int:
 def _sin_cos_of_reduced(r, precision):
     """(sin r, cos r) for |r| <= 0.8."""
     z = r * r
-    sin_p, cos_p = (P.SIN_FULL, P.COS_FULL) if _full(precision) else (P.SIN_RELAXED, P.COS_RELAXED)
+    sin_p, cos_p = (continuum.polynomial("sin"), continuum.polynomial("cos")) if _full(precision) \
+        else (P.SIN_RELAXED, P.COS_RELAXED)  # full's, or a continuum variant's (routines.continuum)
     s = MulAdd(r * z, sin_p(z), r)
     c = MulAdd(z, cos_p(z), 1.0)
     return s, c

@@ -1,12 +1,14 @@
 """``python -m routines continuum``: the precision continuum's variants, measured on the compiled code.
 
-For exp2, exp, log2, log and pow, each variant of ``routines.continuum`` between relaxed and full
+For exp2, exp, log2, log, pow, sin, cos and tan, each variant of ``routines.continuum`` between relaxed and full
 (and both tiers, for comparison) is built with ``routines.jit`` and measured, same run:
 
 * **error** against float64 NumPy on a stated domain, every float32 in it: exp2 and exp, ULP of
   the float32 result for 1/2 <= |x| < 8; log2 and log, the largest absolute error for 1/16 <= x
   < 16 (their error is absolute near their zero) and ULP where |result| >= 1; pow, ULP for every
-  16th float32 x in [1/16, 16) and y in {2.2, 1/2.2, 2.4, 1/2.4};
+  16th float32 x in [1/16, 16) and y in {2.2, 1/2.2, 2.4, 1/2.4}; sin and cos, the largest absolute
+  error (Vulkan's bound for them is absolute) and tan the largest relative error, for every 7th float32
+  of 2^-20 <= |x| <= pi;
 * **modelled cost**: cycles per element of the vector loop (``reactor.cost``, this host's table);
 * **time**: ns per element on 65,536 elements, one thread, median of ``--rounds`` calls
   interleaved across the variants, and the ratio to full.
@@ -22,7 +24,7 @@ import numpy as np
 from . import add_quiet, choice_of
 from . import parser as command_parser
 
-FUNCS = ("exp2", "exp", "log2", "log", "pow")
+FUNCS = ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan")
 POW_Y = (2.2, 1 / 2.2, 2.4, 1 / 2.4)
 
 
@@ -53,6 +55,14 @@ def error(name: str, u) -> str:
             got = u(x).astype(np.float64)
             big = np.abs(want) >= 1
             return f"{np.max(np.abs(got - want)):.2g} abs, {_ulp(got[big], want[big]):.3g} ULP"
+        if name in ("sin", "cos", "tan"):
+            half = _floats(2.0 ** -20, float(np.float32(np.pi)), 7)
+            x = np.concatenate([half, -half])
+            want = getattr(np, name)(x.astype(np.float64))
+            err = np.abs(u(x).astype(np.float64) - want)
+            if name == "tan":
+                return f"{np.max(err / np.abs(want)):.3g} relative"
+            return f"{np.max(err):.3g} abs"
         x = _floats(1 / 16, 16.0, 16)
         worst = 0.0
         for y in POW_Y:

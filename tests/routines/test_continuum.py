@@ -13,7 +13,8 @@ from reactor.errors import ReactorError
 from routines import continuum
 from routines.cli.continuum import _floats, _ulp
 
-VARIANTS = [(name, v) for name in ("exp2", "exp", "log2", "log", "pow") for v in continuum.VARIANTS[name]]
+VARIANTS = [(name, v) for name in ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan")
+            for v in continuum.VARIANTS[name]]
 
 
 def _bound(text: str) -> float:
@@ -34,6 +35,18 @@ def test_log2_variants_keep_their_stated_error(degree):
     x = _floats(1 / 16, 16.0, 7)
     got, want = u(x).astype(np.float64), np.log2(x.astype(np.float64))
     assert np.max(np.abs(got - want)) <= _bound(continuum.LOG2_DEGREES[degree].measured)
+
+
+@pytest.mark.parametrize("name,bound", [("sin", 1.3610e-6), ("cos", 1.3732e-6), ("tan", 2.269e-6)])
+def test_sin_cos_tan_variant_keeps_its_stated_error_between_relaxed_and_full(name, bound):
+    half = _floats(2.0 ** -20, float(np.float32(np.pi)), 29)
+    x = np.concatenate([half, -half])
+    want = getattr(np, name)(x.astype(np.float64))
+    errors = {}
+    for p in ("relaxed", "full-d6", "full"):
+        err = np.abs(routines.jit(name, precision=p)(x).astype(np.float64) - want)
+        errors[p] = np.max(err / np.abs(want)) if name == "tan" else np.max(err)
+    assert errors["full-d6"] <= bound and errors["full"] < errors["full-d6"] < errors["relaxed"]
 
 
 TABLE_FORMS = [("t", q, p) for q, p in continuum.LOG2_TABLE_DEGREES.items()] + \
@@ -132,7 +145,9 @@ def test_variant_names_are_checked_with_the_names_there_are():
         Site("a.py:1", "exp2", "full-d9")
     with pytest.raises(ReactorError, match="precision must be one of"):
         Site("a.py:1", "exp2", "fast-d3")
-    with pytest.raises(ReactorError, match="sin has no precision variants"):
+    with pytest.raises(ReactorError, match="atan has no precision variants"):
+        routines.jit("atan", precision="full-d3")
+    with pytest.raises(ReactorError, match="sin has no precision variant 'full-d3'; its variants are 'full-d6'"):
         routines.jit("sin", precision="full-d3")
     with pytest.raises(ReactorError, match="pow has no precision variant 'full-d3'"):
         routines.jit("pow", precision="full-d3")
