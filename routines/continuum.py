@@ -1,5 +1,5 @@
-"""The precision continuum: variants of exp2, log2 (and so of exp, log and pow), sin, cos and tan
-between the tiers.
+"""The precision continuum: variants of exp2, log2 (and so of exp, log and pow), sin, cos, tan,
+atan, atan2, asin and acos between the tiers.
 
 Two kinds of variant, both keeping every special value and exact point of full precision:
 
@@ -20,7 +20,8 @@ Names, least accurate first in ``VARIANTS``: ``full-dN`` for exp2, exp, log2 and
 polynomial's degree; full itself is d5 for exp2 and d6 for log2); ``full-tN`` (32 points) and
 ``full-sN`` (8 points) for log2 and log (Q's degree); ``full-eAlB``, ``full-eAtB`` and
 ``full-eAsB`` for pow (exp2's degree A, then log2's variant); ``full-d6`` for sin, cos and tan
-(cos(r) of degree 6, sin(r) of 5, after full's reduction). Each polynomial below states its fit
+(cos(r) of degree 6, sin(r) of 5, after full's reduction); ``full-d3`` .. ``full-d6`` for atan and
+atan2 and ``full-d2``, ``full-d3`` for asin and acos (their polynomial's degree; full: 7 and 4). Each polynomial below states its fit
 and the error measured on the compiled routine over a stated domain (``python -m routines
 continuum`` measures them all again, with their modelled and timed cost).
 """
@@ -37,7 +38,9 @@ import numpy as np
 
 from reactor import register_variants
 
-from .polynomials import COS_FULL, COS_RELAXED, EXP2_FULL, LOG2_FULL, SIN_FULL, SIN_RELAXED, Polynomial
+from .polynomials import (
+    ASIN_FULL, ATAN_FULL, COS_FULL, COS_RELAXED, EXP2_FULL, LOG2_FULL, SIN_FULL, SIN_RELAXED, Polynomial, _odd_poly,
+)
 
 
 def _fit(name: str, base: Polynomial, coefficients: tuple[str, ...], weighted: str, measured: str) -> Polynomial:
@@ -96,9 +99,38 @@ COS_DEGREES: dict[int, Polynomial] = {
     3: COS_FULL,
 }
 
+#: atan's P (atan(t) = t + t^3 P(t^2), t in [0, 1]; atan2 evaluates the same) by degree (7: full's),
+#: and asin's R (asin(v) = v + v^3 R(v^2), v^2 in [0, 1/4]; acos the same) by degree (4: full's),
+#: fitted like full's (the command in each provenance). Measured on the compiled routine (FMA on,
+#: AVX-512) against float64 NumPy on every float32 of 2^-20 <= |x| <= 4 (atan) or <= 1 (asin, acos),
+#: in ULP of the float32 result (full: atan 1.57, asin 2.36, acos 1.13); ``python -m routines
+#: continuum atan asin acos`` measures every 7th of them again, with the costs.
+ATAN_DEGREES: dict[int, Polynomial] = {
+    3: _odd_poly("atan.full.d3", "atan", ("0", "1"), ("0.024840286", "-0.09409795", "0.18681417", "-0.33213073"),
+                 "max 590.7 ULP (atan)", "weighted error 3.5185166e-5"),
+    4: _odd_poly("atan.full.d4", "atan", ("0", "1"),
+                 ("-0.013955099", "0.05877025", "-0.12251501", "0.19618309", "-0.333089"),
+                 "max 77.81 ULP (atan)", "weighted error 5.0023868e-6"),
+    5: _odd_poly("atan.full.d5", "atan", ("0", "1"),
+                 ("0.0081063695", "-0.037796725", "0.08484104", "-0.13544576", "0.19897874", "-0.3332849"),
+                 "max 10.64 ULP (atan)", "weighted error 7.3285986e-7"),
+    6: _odd_poly("atan.full.d6", "atan", ("0", "1"),
+                 ("-0.004822535", "0.024734065", "-0.06020313", "0.09968473", "-0.14041328", "0.19974214",
+                  "-0.33332393"), "max 2.455 ULP (atan)", "weighted error 1.0971886e-7"),
+    7: ATAN_FULL,
+}
+ASIN_DEGREES: dict[int, Polynomial] = {
+    2: _odd_poly("asin.full.d2", "asin", ("0", "0.25"), ("0.06410731", "0.071899794", "0.16680126"),
+                 "max 32.33 ULP (asin; acos 29.11)", "weighted error 1.740204e-6"),
+    3: _odd_poly("asin.full.d3", "asin", ("0", "0.25"), ("0.049953125", "0.04003498", "0.075405315", "0.1666558"),
+                 "max 3.788 ULP (asin; acos 2.500)", "weighted error 8.8983261e-8"),
+    4: ASIN_FULL,
+}
+
 FULL_DEGREE = {"exp2": max(EXP2_DEGREES), "log2": max(LOG2_DEGREES), "sin": max(SIN_DEGREES),
-               "cos": max(COS_DEGREES)}
-_TABLES = {"exp2": EXP2_DEGREES, "log2": LOG2_DEGREES, "sin": SIN_DEGREES, "cos": COS_DEGREES}
+               "cos": max(COS_DEGREES), "atan": max(ATAN_DEGREES), "asin": max(ASIN_DEGREES)}
+_TABLES = {"exp2": EXP2_DEGREES, "log2": LOG2_DEGREES, "sin": SIN_DEGREES, "cos": COS_DEGREES,
+           "atan": ATAN_DEGREES, "asin": ASIN_DEGREES}
 
 #: sin, cos and tan's variant (each evaluates both polynomials): ``full-d6``, sin(r) of degree 5 and
 #: cos(r) of degree 6 (P and Q of degree 1 and 2), after full's reduction. Its errors, measured on the
@@ -168,11 +200,12 @@ LOG2_FOLD_DEGREES: dict[int, Polynomial] = {
 }
 
 #: the polynomial kinds each routine's variant names set
-_ONE = {"exp2": "exp2", "exp": "exp2", "log2": "log2", "log": "log2"}
+_ONE = {"exp2": "exp2", "exp": "exp2", "log2": "log2", "log": "log2", "atan": "atan", "atan2": "atan",
+        "asin": "asin", "acos": "asin"}
 
 
 #: full's own errors on the continuum's domains (the comments of EXP2_DEGREES and LOG2_DEGREES)
-_FULL_ERRORS = {EXP2_FULL.name: 0.92, LOG2_FULL.name: 1.9e-7}
+_FULL_ERRORS = {EXP2_FULL.name: 0.92, LOG2_FULL.name: 1.9e-7, ATAN_FULL.name: 1.57, ASIN_FULL.name: 2.36}
 
 
 def _measured(p: Polynomial) -> float:
@@ -187,7 +220,7 @@ def _single(kind: str) -> dict[str, dict[str, int]]:
     if kind == "log2":
         names.update({f"full-t{q}": ("log2t", q) for q in sorted(LOG2_TABLE_DEGREES)})
         names.update({f"full-s{q}": ("log2s", q) for q in sorted(LOG2_FOLD_DEGREES)})
-    polys = {"exp2": EXP2_DEGREES, "log2": LOG2_DEGREES, "log2t": LOG2_TABLE_DEGREES, "log2s": LOG2_FOLD_DEGREES}
+    polys = {**_TABLES, "log2t": LOG2_TABLE_DEGREES, "log2s": LOG2_FOLD_DEGREES}
     ordered = sorted(names.items(), key=lambda item: -_measured(polys[item[1][0]][item[1][1]]))
     return {name: {k: d} for name, (k, d) in ordered}
 

@@ -323,7 +323,7 @@ def _asin_core(x, precision):
     s = sqrt(w, precision=precision)
     z = Select(high, w, ax * ax)
     v = Select(high, s, ax)
-    poly = P.ASIN_FULL if _full(precision) else P.ASIN_RELAXED
+    poly = continuum.polynomial("asin") if _full(precision) else P.ASIN_RELAXED  # full's or a variant's
     return MulAdd(v * z, poly(z), v), high
 
 
@@ -359,7 +359,7 @@ def acos(x, precision: Precision = Precision.FULL):
 def _atan01(t, precision):
     """atan(t) for t in [0, 1] (NaN propagates)."""
     z = t * t
-    poly = P.ATAN_FULL if _full(precision) else P.ATAN_RELAXED
+    poly = continuum.polynomial("atan") if _full(precision) else P.ATAN_RELAXED  # full's or a variant's
     return MulAdd(t * z, poly(z), t)
 
 

@@ -1,6 +1,6 @@
 """``python -m routines continuum``: the precision continuum's variants, measured on the compiled code.
 
-For exp2, exp, log2, log, pow, sin, cos and tan, each variant of ``routines.continuum`` between relaxed and full
+For exp2, exp, log2, log, pow, sin, cos, tan, atan, asin and acos, each variant of ``routines.continuum`` between relaxed and full
 (and both tiers, for comparison) is built with ``routines.jit`` and measured, same run:
 
 * **error** against float64 NumPy on a stated domain, every float32 in it: exp2 and exp, ULP of
@@ -8,7 +8,8 @@ For exp2, exp, log2, log, pow, sin, cos and tan, each variant of ``routines.cont
   < 16 (their error is absolute near their zero) and ULP where |result| >= 1; pow, ULP for every
   16th float32 x in [1/16, 16) and y in {2.2, 1/2.2, 2.4, 1/2.4}; sin and cos, the largest absolute
   error (Vulkan's bound for them is absolute) and tan the largest relative error, for every 7th float32
-  of 2^-20 <= |x| <= pi;
+  of 2^-20 <= |x| <= pi; atan, asin and acos, ULP for every 7th float32 of 2^-20 <= |x| <= 4 (atan) or
+  1;
 * **modelled cost**: cycles per element of the vector loop (``reactor.cost``, this host's table);
 * **time**: ns per element on 65,536 elements, one thread, median of ``--rounds`` calls
   interleaved across the variants, and the ratio to full.
@@ -24,7 +25,7 @@ import numpy as np
 from . import add_quiet, choice_of
 from . import parser as command_parser
 
-FUNCS = ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan")
+FUNCS = ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan", "atan", "asin", "acos")
 POW_Y = (2.2, 1 / 2.2, 2.4, 1 / 2.4)
 
 
@@ -63,6 +64,11 @@ def error(name: str, u) -> str:
             if name == "tan":
                 return f"{np.max(err / np.abs(want)):.3g} relative"
             return f"{np.max(err):.3g} abs"
+        if name in ("atan", "asin", "acos"):
+            half = _floats(2.0 ** -20, 4.0 if name == "atan" else 1.0, 7)
+            x = np.concatenate([half, -half])
+            want = getattr(np, "arc" + name[1:])(x.astype(np.float64))
+            return f"{_ulp(u(x), want):.3g} ULP"
         x = _floats(1 / 16, 16.0, 16)
         worst = 0.0
         for y in POW_Y:
@@ -82,7 +88,7 @@ def rows(name: str, rounds: int) -> list[dict]:
     ufuncs = {p: routines.jit(name, precision=p) for p in names}
     reactor.configure_threads(threads=1)
     rng = np.random.default_rng(7)
-    x = rng.uniform(0.05, 4.0, 1 << 16).astype(np.float32)
+    x = rng.uniform(0.05, 0.95 if name in ("asin", "acos") else 4.0, 1 << 16).astype(np.float32)
     args = (x, np.full_like(x, 2.2)) if name == "pow" else (x,)
     out = np.empty_like(x)
     times: dict[str, list[float]] = {p: [] for p in names}

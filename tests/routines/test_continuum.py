@@ -13,7 +13,7 @@ from reactor.errors import ReactorError
 from routines import continuum
 from routines.cli.continuum import _floats, _ulp
 
-VARIANTS = [(name, v) for name in ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan")
+VARIANTS = [(name, v) for name in ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan", "atan", "asin", "acos")
             for v in continuum.VARIANTS[name]]
 
 
@@ -47,6 +47,31 @@ def test_sin_cos_tan_variant_keeps_its_stated_error_between_relaxed_and_full(nam
         err = np.abs(routines.jit(name, precision=p)(x).astype(np.float64) - want)
         errors[p] = np.max(err / np.abs(want)) if name == "tan" else np.max(err)
     assert errors["full-d6"] <= bound and errors["full"] < errors["full-d6"] < errors["relaxed"]
+
+
+@pytest.mark.parametrize("name,kind,hi", [("atan", "atan", 4.0), ("asin", "asin", 1.0), ("acos", "asin", 1.0)])
+def test_inverse_trig_variants_keep_their_stated_error_in_order(name, kind, hi):
+    half = _floats(2.0 ** -20, hi, 29)
+    x = np.concatenate([half, -half])
+    want = getattr(np, "arc" + name[1:])(x.astype(np.float64))
+    table = continuum.ATAN_DEGREES if kind == "atan" else continuum.ASIN_DEGREES
+    errors = []
+    for degree in sorted(table)[:-1]:
+        err = _ulp(routines.jit(name, precision=f"full-d{degree}")(x), want)
+        text = table[degree].measured
+        stated = float(re.search(r"acos ([0-9.]+)", text).group(1)) if name == "acos" else _bound(text)
+        assert err <= stated, (name, degree)
+        errors.append(err)
+    errors.append(_ulp(routines.jit(name)(x), want))
+    assert errors == sorted(errors, reverse=True)
+
+
+def test_atan2_takes_atans_variants():
+    y = np.linspace(-1, 1, 4097, dtype=np.float32)
+    for v in continuum.VARIANTS["atan2"]:
+        got = routines.jit("atan2", precision=v)(y, np.ones_like(y))
+        assert np.array_equal(got, routines.jit("atan", precision=v)(y)), v
+    assert list(continuum.VARIANTS["atan2"]) == list(continuum.VARIANTS["atan"])
 
 
 TABLE_FORMS = [("t", q, p) for q, p in continuum.LOG2_TABLE_DEGREES.items()] + \
@@ -145,8 +170,8 @@ def test_variant_names_are_checked_with_the_names_there_are():
         Site("a.py:1", "exp2", "full-d9")
     with pytest.raises(ReactorError, match="precision must be one of"):
         Site("a.py:1", "exp2", "fast-d3")
-    with pytest.raises(ReactorError, match="atan has no precision variants"):
-        routines.jit("atan", precision="full-d3")
+    with pytest.raises(ReactorError, match="sinh has no precision variants"):
+        routines.jit("sinh", precision="full-d3")
     with pytest.raises(ReactorError, match="sin has no precision variant 'full-d3'; its variants are 'full-d6'"):
         routines.jit("sin", precision="full-d3")
     with pytest.raises(ReactorError, match="pow has no precision variant 'full-d3'"):
