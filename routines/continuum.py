@@ -39,7 +39,7 @@ import numpy as np
 from reactor import register_variants
 
 from .polynomials import (
-    ASIN_FULL, ATAN_FULL, COS_FULL, COS_RELAXED, EXP2_FULL, LOG2_FULL, SIN_FULL, SIN_RELAXED, Polynomial, _odd_poly,
+    ASIN_FULL, ATAN_FULL, COS_FULL, COS_RELAXED, EXP2_FULL, LOG2_FULL, SIN_FULL, SIN_RELAXED, Polynomial, odd_poly,
 )
 
 
@@ -106,23 +106,23 @@ COS_DEGREES: dict[int, Polynomial] = {
 #: in ULP of the float32 result (full: atan 1.57, asin 2.36, acos 1.13); ``python -m routines
 #: continuum atan asin acos`` measures every 7th of them again, with the costs.
 ATAN_DEGREES: dict[int, Polynomial] = {
-    3: _odd_poly("atan.full.d3", "atan", ("0", "1"), ("0.024840286", "-0.09409795", "0.18681417", "-0.33213073"),
+    3: odd_poly("atan.full.d3", "atan", ("0", "1"), ("0.024840286", "-0.09409795", "0.18681417", "-0.33213073"),
                  "max 590.7 ULP (atan)", "weighted error 3.5185166e-5"),
-    4: _odd_poly("atan.full.d4", "atan", ("0", "1"),
+    4: odd_poly("atan.full.d4", "atan", ("0", "1"),
                  ("-0.013955099", "0.05877025", "-0.12251501", "0.19618309", "-0.333089"),
                  "max 77.81 ULP (atan)", "weighted error 5.0023868e-6"),
-    5: _odd_poly("atan.full.d5", "atan", ("0", "1"),
+    5: odd_poly("atan.full.d5", "atan", ("0", "1"),
                  ("0.0081063695", "-0.037796725", "0.08484104", "-0.13544576", "0.19897874", "-0.3332849"),
                  "max 10.64 ULP (atan)", "weighted error 7.3285986e-7"),
-    6: _odd_poly("atan.full.d6", "atan", ("0", "1"),
+    6: odd_poly("atan.full.d6", "atan", ("0", "1"),
                  ("-0.004822535", "0.024734065", "-0.06020313", "0.09968473", "-0.14041328", "0.19974214",
                   "-0.33332393"), "max 2.455 ULP (atan)", "weighted error 1.0971886e-7"),
     7: ATAN_FULL,
 }
 ASIN_DEGREES: dict[int, Polynomial] = {
-    2: _odd_poly("asin.full.d2", "asin", ("0", "0.25"), ("0.06410731", "0.071899794", "0.16680126"),
+    2: odd_poly("asin.full.d2", "asin", ("0", "0.25"), ("0.06410731", "0.071899794", "0.16680126"),
                  "max 32.33 ULP (asin; acos 29.11)", "weighted error 1.740204e-6"),
-    3: _odd_poly("asin.full.d3", "asin", ("0", "0.25"), ("0.049953125", "0.04003498", "0.075405315", "0.1666558"),
+    3: odd_poly("asin.full.d3", "asin", ("0", "0.25"), ("0.049953125", "0.04003498", "0.075405315", "0.1666558"),
                  "max 3.788 ULP (asin; acos 2.500)", "weighted error 8.8983261e-8"),
     4: ASIN_FULL,
 }

@@ -156,7 +156,9 @@ LOG2_RELAXED_REFERENCE = Polynomial(
 _ODD = "relative error of {f}(r) = r + r^3 p(r^2): fitted in z = r^2"
 
 
-def _odd_poly(name, f, interval, coefficients, measured, note=""):
+def odd_poly(name, f, interval, coefficients, measured, note=""):
+    """The polynomial p of an odd function, f(r) = r + r^3 p(r^2), fitted in z = r^2 for relative
+    error, with its provenance."""
     lo, hi = interval
     return Polynomial(
         name=name, function=f"({f}(sqrt(x))-sqrt(x))/x^1.5", weight=f"{f}(sqrt(x))/x^1.5",
@@ -167,12 +169,12 @@ def _odd_poly(name, f, interval, coefficients, measured, note=""):
         measured=measured)
 
 
-SIN_FULL = _odd_poly(
+SIN_FULL = odd_poly(
     "sin.full", "sin", ("0", "0.64"), ("-0.00019503069", "0.008332071", "-0.16666654"),
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: sin max 1.38 ULP-32, 6.5e-8 absolute inside [-pi, pi] (max margin 1.3e-4 of 2^-11), 1.55 ULP-32, 7.4e-8 absolute outside (no bound); cos 1.49 / 1.55 ULP-32; 0 non-conforming, 0 special mismatches; `python -m routines accuracy sin --precision full --fma on --exhaustive`",
     note="|r| <= 0.8 covers the float32 reduction's |r| < 0.797; weighted error 4.4e-9 (2^-27.8)")
 
-SIN_RELAXED = _odd_poly(
+SIN_RELAXED = odd_poly(
     "sin.relaxed", "sin", ("0", "0.64"), ("0.008156913", "-0.16663139"),
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: sin and cos max 0.0282 ULP-16, 1.38e-5 absolute inside and outside [-pi, pi] (max margin 1.8e-3 of 2^-7), 0 non-conforming; `python -m routines accuracy sin --precision relaxed --fma on --exhaustive`", note="weighted error 2.1e-6 (2^-18.9)")
 
@@ -191,41 +193,41 @@ COS_RELAXED = Polynomial(
                "cos of degree 4; weighted error 1.4e-5 (2^-16.2)",
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: cos max 0.0282 ULP-16, 1.38e-5 absolute (max margin 1.8e-3 of 2^-7); tan 0.0269 ULP-16 (margin 6.6e-4); `python -m routines accuracy cos --precision relaxed --fma on --exhaustive`")
 
-ATAN_FULL = _odd_poly(
+ATAN_FULL = odd_poly(
     "atan.full", "atan", ("0", "1"),
     ("0.002920693", "-0.01636793", "0.043211866", "-0.07552215", "0.106660046", "-0.14211056",
      "0.19993773", "-0.33333153"),
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: atan max 1.57 ULP-32 (max margin 3.8e-4 of 4096 ULP); atan2, stratified 1.09e9 pairs: 1.74 ULP-32 (4.3e-4); 0 non-conforming, 0 special mismatches; `python -m routines accuracy atan --precision full --fma on --exhaustive`", note="t = min(|x|,1)/max(|x|,1) in [0, 1]; weighted error "
                                                "1.7e-8 (2^-25.8)")
 
-ATAN_RELAXED = _odd_poly(
+ATAN_RELAXED = odd_poly(
     "atan.relaxed", "atan", ("0", "1"), ("-0.046496473", "0.15931422", "-0.32762277"),
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: atan max 0.469 ULP-16 (max margin 0.094 of 5 ULP-16); atan2, stratified 1.09e9 pairs: 0.469 ULP-16 (0.094); `python -m routines accuracy atan --precision relaxed --fma on --exhaustive`", note="weighted error 2.6e-4 (2^-11.9): 0.25-0.5 ULP-16, "
                                                "against 5 ULP-16 allowed")
 
-ASIN_FULL = _odd_poly(
+ASIN_FULL = odd_poly(
     "asin.full", "asin", ("0", "0.25"),
     ("0.042166308", "0.024179514", "0.045470376", "0.074952975", "0.16666752"),
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: asin max 2.36 ULP-32 (max margin 5.8e-4 of its inherited ~4100 ULP), acos 1.13 ULP-32 (2.7e-4); 0 non-conforming, 0 special mismatches; `python -m routines accuracy asin --precision full --fma on --exhaustive`", note="v = |x| <= 1/2 or sqrt((1-|x|)/2); weighted error "
                                                "4.8e-9 (2^-27.6)")
 
-ASIN_RELAXED = _odd_poly(
+ASIN_RELAXED = odd_poly(
     "asin.relaxed", "asin", ("0", "0.25"), ("0.09429868", "0.16505776"),
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on: asin max 0.137 ULP-16 (max margin 0.016), acos 0.160 ULP-16 (0.016); `python -m routines accuracy asin --precision relaxed --fma on --exhaustive`", note="weighted error 3.8e-5 (2^-14.7)")
 
-SINH_FULL = _odd_poly(
+SINH_FULL = odd_poly(
     "sinh.full", "sinh", ("0", "1"), ("0.00020372194", "0.008330284", "0.16666716"),
     measured="exhaustive, all 2^32 inputs, compiled kernel, FMA on (AVX2, Zen 3): sinh max 1.62 ULP-32, max margin 0.208 (x = 1.0074), 0 non-conforming; FMA off sampled: margin 0.21; `python -m routines accuracy sinh --precision full --fma on --exhaustive`", note="|x| < 1; weighted error 2.4e-8 (2^-25.3)")
 
-SINH_RELAXED = _odd_poly(
+SINH_RELAXED = odd_poly(
     "sinh.relaxed", "sinh", ("0", "1"), ("0.008610608", "0.16658214"),
     measured="exhaustive, all 2^32 inputs, FMA on (AVX2): sinh max 0.0143 ULP-16, max margin 0.0025, 0 non-conforming; `python -m routines accuracy sinh --precision relaxed --fma on --exhaustive`", note="weighted error 7.2e-6 (2^-17.1)")
 
-TANH_FULL = _odd_poly(
+TANH_FULL = odd_poly(
     "tanh.full", "tanh", ("0", "0.3025"), ("0.01643758", "-0.052671812", "0.13320725", "-0.33332947"),
     measured="exhaustive, all 2^32 inputs, FMA on (AVX2): tanh max 1.56 ULP-32, max margin 0.138 (x = 0.555), 0 non-conforming; FMA off sampled: margin 0.11; `python -m routines accuracy tanh --precision full --fma on --exhaustive`", note="|x| < 0.55; weighted error 3.7e-8 (2^-24.7)")
 
-TANH_RELAXED = _odd_poly(
+TANH_RELAXED = odd_poly(
     "tanh.relaxed", "tanh", ("0", "0.3025"), ("0.113320686", "-0.33153343"),
     measured="exhaustive, all 2^32 inputs, FMA on (AVX2): tanh max 0.098 ULP-16, max margin 0.0084, 0 non-conforming; `python -m routines accuracy tanh --precision relaxed --fma on --exhaustive`", note="weighted error 4.8e-5 (2^-14.3)")
 
