@@ -137,10 +137,12 @@ def pure_call(name: str, settings: tuple, args: tuple, options: dict, emit: typi
     key = call_key(name, settings, args, options)
     found = reuse(key)
     if found is not None:
+        _report(name, args, found)
         with routine_call(name):  # recorded all the same: a plan lists (and may set) this site too
             return found
     result = emit()
     remember(key, result, args)
+    _report(name, args, result)
     return result
 
 
@@ -174,3 +176,37 @@ def site_probe(name: str, args: tuple) -> None:
     where, routine, record = probe
     if name == routine and where_called() == where:
         record(args)
+
+
+# -- what each call computed from what: reactor.plan's interval analysis -------------------------
+
+_results: contextvars.ContextVar = contextvars.ContextVar("reactor_routine_results", default=None)
+
+
+@dataclasses.dataclass(frozen=True)
+class CallResult:
+    """A routine call a trace emitted: ``name`` at the user's line ``where``, its operands (DSL
+    values or Python numbers) and its result."""
+
+    name: str
+    where: str
+    args: tuple
+    result: typing.Any
+
+
+@contextlib.contextmanager
+def recording_results(found: list) -> typing.Iterator[None]:
+    """While building in the block, append a ``CallResult`` to ``found`` for every routine call
+    made outside another routine (``reactor.plan`` summarizes each by the routine's function)."""
+    token = _results.set(found)
+    try:
+        yield
+    finally:
+        _results.reset(token)
+
+
+def _report(name: str, args: tuple, result) -> None:
+    found = _results.get()
+    if found is None or not _em.building() or _em.current().module.routine_depth:
+        return
+    found.append(CallResult(name, where_called(), tuple(args), result))

@@ -28,6 +28,7 @@ from ..build import Site
 from ..errors import ReactorError
 from .domains import MAX_ROWS, Range, Rows
 from .outputs import Output
+from .bounds import checked_bounds
 from .ranges import site_ranges
 from .search import TIERS, Search, _short, reference_sites
 
@@ -53,6 +54,7 @@ class SiteReport:
     source_changes: int | None = None  # outputs changed with this site at ``source`` alone
     sees: list | None = None  # per operand, its values over the check rows (``ranges.OperandRange.text``)
     in_range: bool = False  # built knowing those ranges (special-case paths they exclude dropped)
+    bounds: list | None = None  # per operand, its interval over the whole declared domain (``bounds.py``)
 
     def text(self) -> str:
         saved = f"{self.saving:+.2f}" if self.saving else "     "
@@ -65,8 +67,10 @@ class SiteReport:
                 example = "  e.g. " + ", ".join(f"{k}={_fmt(v)}" for k, v in self.below_example.items())
             line = head + f"  {self.below}: changes {self.below_changes:,}{example}"
         if self.sees:
-            line += f"\n  {'':<6} {'':<22} sees {', '.join(self.sees)}" + \
-                ("; built for that range (special cases dropped)" if self.in_range else "")
+            line += f"\n  {'':<6} {'':<22} sees {', '.join(self.sees)}"
+            if self.bounds and self.bounds != self.sees:
+                line += f" (bounded over the domain by {', '.join(self.bounds)})"
+            line += "; built for that range (special cases dropped)" if self.in_range else ""
         if self.source is not None:
             verdict = "safe: the stored output is the same" if not self.source_changes else \
                 f"changes {self.source_changes:,} stored outputs"
@@ -178,7 +182,11 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
     alone = search.alone()
     sites, best = search.together(alone)
     seen = site_ranges(search)  # what each site's operands are, over the check rows
-    sites, best = search.restrict(sites, best, seen)
+    proved, unsound = checked_bounds(search, seen)  # ... and can be, over the whole declared domain
+    for where, routine in unsound:
+        search.log(f"  {routine} at {where}: its interval bound misses values the rows reached; not used")
+    spans = {k: tuple(r.widened() for r in v) for k, v in seen.items()} if search.check.exhaustive else proved
+    sites, best = search.restrict(sites, best, spans)
     proof = "exhaustive" if search.check.exhaustive else "sample"
     checked = search.check.size
     if search.fresh is not None:  # a sampled plan is re-checked on rows it was not chosen on
@@ -203,7 +211,8 @@ def plan(ufunc, inputs: dict, output: typing.Any = "unorm8", *, samples: int = 1
         ranged = any(x.ranges for x in sites if (x.where, x.routine) == (where, routine))
         reports.append(SiteReport(where, routine, tier, b[0] if b else None, b[1].changed if b else None,
                                   b[1].example if b else None, saved[0] if saved else 0.0, source, source_changes,
-                                  [r.text() for r in seen.get((where, routine), ())], ranged))
+                                  [r.text() for r in seen.get((where, routine), ())], ranged,
+                                  [r.text() for r in proved.get((where, routine), ())] or None))
     written = search.as_written()
     sites = search.pinned(sites)
     cycles, changes, ufuncs = {}, {}, {}

@@ -167,3 +167,34 @@ def _columns(factors, picks) -> dict[str, np.ndarray]:
         else:
             columns[names[0]] = d.values[pick]
     return columns
+
+
+def hulls(names: list[str], declared: dict[str, typing.Any]) -> dict[str, tuple[float, float, bool]]:
+    """Per element input of ``names`` that ``declared`` gives a domain: (lo, hi, nan), every value
+    it can take (a Range's ends; a finite domain's least and greatest values, a vector input's over
+    its channels; whether a NaN is among them), as an input stores them (the check
+    rows are stored as float32 or float16: as each rounds them)."""
+    found: dict[str, tuple[float, float, bool]] = {}
+    rows = declared.get("rows")
+    columns: dict[str, typing.Any] = dict(rows.columns) if isinstance(rows, Rows) else {}
+    for n in names:
+        if n in columns:
+            values = np.asarray(columns[n], np.float64)
+        elif n in declared:
+            d = domain_of(n, declared[n])
+            values = np.array([d.lo, d.hi]) if isinstance(d, Range) else np.asarray(d.values, np.float64)
+        else:
+            continue
+        ok = values[~np.isnan(values)]
+        lo, hi = (float(ok.min()), float(ok.max())) if ok.size else (math.inf, -math.inf)
+        found[n] = (_stored(lo, min), _stored(hi, max), bool(np.isnan(values).any()))
+    return found
+
+
+def _stored(v: float, pick) -> float:
+    """The end ``v``, or as float32 or float16 round it (nearest: monotone, so every stored value of a
+    domain lies between its stored ends), the outer of the two (``pick``: min or max)."""
+    if not math.isfinite(v):
+        return v
+    with np.errstate(over="ignore"):
+        return pick(v, float(np.float32(v)), float(np.float16(v)))

@@ -33,7 +33,7 @@ import numpy as np
 from ..build import VARIANTS, Precision, Site
 from ..cost.model import kernel_cycles
 from ..errors import ReactorError
-from .domains import Check, rows_to_check
+from .domains import Check, hulls, rows_to_check
 from .outputs import Output, changed_rows, row_margin
 
 #: least to most accurate: Vulkan's relaxed and full, then faithful and correct, which every routine
@@ -80,6 +80,7 @@ class Search:
                                f"are passed as they are)")
         self.names = names
         declared = {k: v for k, v in inputs.items() if k not in self.fixed}
+        self.declared = declared
         for n, o in zip(names, ops):
             if o.channels > 1 and not o.uniform and n in declared:
                 raise ReactorError(f"plan: input '{n}' has {o.channels} channels per element: give its values "
@@ -153,7 +154,8 @@ class Search:
             return
         margin = row_margin(self.output, self.ref_out)
         worst = np.argsort(margin, kind="stable")[:WORST_ROWS]
-        extra = _neighbours(self.check.take(worst), self.element_names, NEIGHBOURS)
+        extra = _neighbours(self.check.take(worst), self.element_names, NEIGHBOURS,
+                            hulls(self.element_names, self.declared))
         columns = {k: np.concatenate([v, extra[k]]) for k, v in self.check.columns.items()}
         self.check = Check(columns, False, self.check.description + f" + {len(extra[self.element_names[0]]):,} "
                            f"neighbours of the {len(worst):,} rows nearest a rounding boundary")
@@ -236,23 +238,24 @@ class Search:
         return _site_tuple({k: v for k, v in chosen.items() if v != self.top}, self.fma), best
 
     def restrict(self, sites: tuple, best: Candidate, ranges: dict) -> tuple[tuple, Candidate]:
-        """On an exhaustive check only: each site at relaxed, full or a point of the continuum, built
-        knowing the ranges its operands were proved in (``ranges.site_ranges``, widened by 2^-20), so
-        that it drops the special-case paths they exclude (exp2's subnormal and overflow paths, log2's
-        general one, pow's NaN select, the Newton step's NaN select of rsqrt and rcp, relaxed sqrt's
-        zero and infinity select); kept where it changes nothing and is cheaper code."""
-        if not self.check.exhaustive:
-            return sites, best
+        """Each site at relaxed, full or a point of the continuum, built knowing the ranges its
+        operands are proved to lie in (``ranges``: per site, ``ranges.OperandRange`` each: measured
+        over an exhaustive check, ``ranges.site_ranges``, or bounded over the declared domain,
+        ``bounds.site_bounds``), so that it drops the special-case paths they exclude (exp2's
+        subnormal and overflow paths, log2's general one, pow's NaN select, the Newton step's NaN
+        select of rsqrt and rcp, relaxed sqrt's zero and infinity select); kept where it changes
+        nothing and is cheaper code."""
         current = {(s.where, s.routine): s for s in sites}
         for where, routine in self.sites:
             site = current.get((where, routine))
             tier = site.precision if site is not None else self.top
             spans = ranges.get((where, routine))
             if not (tier in ("relaxed", "full") or tier.startswith("full-")) or not spans or \
-                    not all(r.known and r.seen for r in spans):
+                    not all(r.known and r.seen for r in spans) or all(r.unbounded for r in spans):
                 continue
             trial = dict(current)
-            trial[(where, routine)] = Site(where, routine, tier, self.fma, tuple(_widened(r) for r in spans))
+            trial[(where, routine)] = Site(where, routine, tier, self.fma,
+                                           tuple((r.lo, r.hi, r.nan) for r in spans))
             cand = self.compare(self.build(tuple(sorted(trial.values())), self.top))
             self.log(f"  {routine} at {_short(where)} {tier} in its range: changes {cand.changed:,}, "
                      f"{cand.cycles:.2f} cycles/element")
@@ -327,21 +330,14 @@ def cycles_per_element(kern, machine: str | None = None) -> float:
     return _cycles[key]
 
 
-def _widened(r) -> tuple[float, float, bool]:
-    """An operand range a little wider (2^-20 relative, zero kept): a site below full upstream may
-    move a value by a few ULP."""
-    def out(v, up):
-        return v * (1 + 2 ** -20) if (v > 0) == up else v * (1 - 2 ** -20)
-    return out(r.lo, False), out(r.hi, True), r.nan
-
-
 def _site_tuple(chosen: dict, fma) -> tuple:
     return tuple(sorted(Site(w, r, t, fma) for (w, r), t in chosen.items()))
 
 
-def _neighbours(rows: dict, names: list[str], steps: int) -> dict:
+def _neighbours(rows: dict, names: list[str], steps: int, within: dict) -> dict:
     """Each row with one float input moved by 1..``steps`` float32 steps either way (the others
-    kept): where a reference output is near a boundary, its neighbours straddle it."""
+    kept), but not out of its declared domain's hull (``within``: name -> (lo, hi, nan), from
+    ``domains.hulls``): where a reference output is near a boundary, its neighbours straddle it."""
     out: dict[str, list] = {n: [] for n in rows}
     for n in names:
         v = rows[n]
@@ -351,6 +347,8 @@ def _neighbours(rows: dict, names: list[str], steps: int) -> dict:
         for k in range(1, steps + 1):
             for sign in (1, -1):
                 moved = _step(v, bits, sign * k)
+                if n in within:
+                    moved = np.clip(moved, np.float32(within[n][0]), np.float32(within[n][1]))
                 for m in rows:
                     out[m].append(moved if m == n else rows[m])
     if not out[names[0]]:
