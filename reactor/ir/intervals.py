@@ -24,6 +24,7 @@ lane can hold, and whether NaN can come. It is sound, not tight:
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import typing
 
@@ -311,7 +312,7 @@ class Analysis:
         instructions = [i for b in self.function.blocks for i in b.instructions]
         self.keep = instructions
         self._memory(instructions)
-        for n in range(PASSES + 3):
+        for n in itertools.count():  # ends: past PASSES a value or store changes once more at most
             self.passes, self.moved = n, False
             changed = False
             for inst in instructions:
@@ -330,7 +331,7 @@ class Analysis:
                 changed = True
             if not changed and not self.moved:
                 return self
-        raise AssertionError("interval analysis did not settle")  # widening makes this unreachable
+        raise AssertionError("unreachable")
 
     # -- memory ----------------------------------------------------------------------------
     def _memory(self, instructions) -> None:
@@ -405,8 +406,10 @@ def _constant(c) -> Interval:
 
 
 def _number(v, t) -> Interval:
-    if v is None or v is ir.Undefined:
-        return anything(t)
+    if v is ir.Undefined:  # a vector's lanes before they are set (the DSL builds vectors lane by
+        return NONE        # lane into undef and never reads an unset lane)
+    if v is None:  # zeroinitializer
+        v = 0
     if isinstance(v, bool):
         return Interval(float(v), float(v))
     if isinstance(v, (int, float)):
@@ -459,7 +462,7 @@ def _given(a: Analysis, cond, value, truth: bool) -> Interval:
     """The interval of ``value`` where the fcmp ``cond`` is ``truth`` (where ``value`` is one
     of its operands; else its interval)."""
     v = a.of(value)
-    if getattr(cond, "opname", None) != "fcmp" or value not in cond.operands[:2]:
+    if getattr(cond, "opname", None) != "fcmp" or not any(value is x for x in cond.operands[:2]):
         return v
     pred = _PREDICATES.get(cond.op[1:])
     if pred is None or cond.op[0] not in "ou" or v.lo > v.hi:
