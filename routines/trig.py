@@ -412,7 +412,7 @@ def _exp_half(a, precision):
     k = Round(a * LOG2E)
     r = MulAdd(k, -LN2_HI, a)                               # exact: k * LN2_HI has <= 24 bits
     r = MulAdd(k, -LN2_LO, r)
-    poly = P.EXP_FULL if _full(precision) else P.EXP_RELAXED
+    poly = continuum.polynomial("exp_half") if _full(precision) else P.EXP_RELAXED  # full's or a variant's
     e_r = MulAdd(r, MulAdd(r, poly(r), 1.0), 1.0)           # 1 + r + r^2 E(r)
     return ScaleF(e_r, k - 1.0)
 
@@ -440,7 +440,7 @@ def sinh(x, precision: Precision = Precision.FULL):
     ax = Abs(x)
     h = _exp_half(ax, precision)
     large = h - _reciprocal(h, 0.25, precision)
-    small = _odd_small(ax, P.SINH_FULL if _full(precision) else P.SINH_RELAXED)
+    small = _odd_small(ax, continuum.polynomial("sinh") if _full(precision) else P.SINH_RELAXED)
     return CopySign(Select(ax < 1.0, small, large), x).named("sinh")
 
 
@@ -465,5 +465,5 @@ def tanh(x, precision: Precision = Precision.FULL):
     ax = Abs(x)
     h = _exp_half(ax + ax, precision)
     large = 1.0 - _reciprocal(h + 0.5, 1.0, precision)
-    small = _odd_small(ax, P.TANH_FULL if _full(precision) else P.TANH_RELAXED)
+    small = _odd_small(ax, continuum.polynomial("tanh") if _full(precision) else P.TANH_RELAXED)
     return CopySign(Select(ax < 0.55, small, large), x).named("tanh")

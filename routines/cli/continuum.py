@@ -1,10 +1,11 @@
 """``python -m routines continuum``: the precision continuum's variants, measured on the compiled code.
 
-For exp2, exp, log2, log, pow, sin, cos, tan, atan, asin and acos, each variant of ``routines.continuum`` between relaxed and full
+For exp2, exp, log2, log, pow, sin, cos, tan, atan, asin, acos, sinh, cosh and tanh, each variant of ``routines.continuum`` between relaxed and full
 (and both tiers, for comparison) is built with ``routines.jit`` and measured, same run:
 
 * **error** against float64 NumPy on a stated domain, every float32 in it: exp2 and exp, ULP of
-  the float32 result for 1/2 <= |x| < 8; log2 and log, the largest absolute error for 1/16 <= x
+  the float32 result for 1/2 <= |x| < 8; sinh, cosh and tanh, ULP for every 7th float32 of 2^-20
+  <= |x| <= 10; log2 and log, the largest absolute error for 1/16 <= x
   < 16 (their error is absolute near their zero) and ULP where |result| >= 1; pow, ULP for every
   16th float32 x in [1/16, 16) and y in {2.2, 1/2.2, 2.4, 1/2.4}; sin and cos, the largest absolute
   error (Vulkan's bound for them is absolute) and tan the largest relative error, for every 7th float32
@@ -25,7 +26,7 @@ import numpy as np
 from . import add_quiet, choice_of
 from . import parser as command_parser
 
-FUNCS = ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan", "atan", "asin", "acos")
+FUNCS = ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan", "atan", "asin", "acos", "sinh", "cosh", "tanh")
 POW_Y = (2.2, 1 / 2.2, 2.4, 1 / 2.4)
 
 
@@ -64,11 +65,11 @@ def error(name: str, u) -> str:
             if name == "tan":
                 return f"{np.max(err / np.abs(want)):.3g} relative"
             return f"{np.max(err):.3g} abs"
-        if name in ("atan", "asin", "acos"):
-            half = _floats(2.0 ** -20, 4.0 if name == "atan" else 1.0, 7)
+        if name in ("atan", "asin", "acos", "sinh", "cosh", "tanh"):
+            half = _floats(2.0 ** -20, {"atan": 4.0, "asin": 1.0, "acos": 1.0}.get(name, 10.0), 7)
             x = np.concatenate([half, -half])
-            want = getattr(np, "arc" + name[1:])(x.astype(np.float64))
-            return f"{_ulp(u(x), want):.3g} ULP"
+            fn = getattr(np, name if name.endswith("h") else "arc" + name[1:])
+            return f"{_ulp(u(x), fn(x.astype(np.float64))):.3g} ULP"
         x = _floats(1 / 16, 16.0, 16)
         worst = 0.0
         for y in POW_Y:

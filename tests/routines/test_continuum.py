@@ -13,7 +13,8 @@ from reactor.errors import ReactorError
 from routines import continuum
 from routines.cli.continuum import _floats, _ulp
 
-VARIANTS = [(name, v) for name in ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan", "atan", "asin", "acos")
+VARIANTS = [(name, v) for name in ("exp2", "exp", "log2", "log", "pow", "sin", "cos", "tan", "atan", "asin", "acos",
+                                   "sinh", "cosh", "tanh")
             for v in continuum.VARIANTS[name]]
 
 
@@ -64,6 +65,27 @@ def test_inverse_trig_variants_keep_their_stated_error_in_order(name, kind, hi):
         errors.append(err)
     errors.append(_ulp(routines.jit(name)(x), want))
     assert errors == sorted(errors, reverse=True)
+
+
+@pytest.mark.parametrize("name", ["sinh", "cosh", "tanh"])
+def test_hyperbolic_variants_keep_their_stated_error_in_order(name):
+    half = _floats(2.0 ** -20, 10.0, 7 * 8)  # every 8th of the stated measurement's floats
+    x = np.concatenate([half, -half])
+    want = getattr(np, name)(x.astype(np.float64))
+    stated = dict(re.findall(rf"{name} full-d2 ([0-9.]+), full-d3 ([0-9.]+)",
+                             " ".join(continuum.__doc__.split()) + " " + _hyperbolic_comment()))
+    (d2, d3), = stated.items()
+    errors = [_ulp(routines.jit(name, precision=p)(x), want) for p in ("relaxed", "full-d2", "full-d3", "full")]
+    assert errors[1] <= float(d2) and errors[2] <= float(d3)
+    assert errors == sorted(errors, reverse=True)
+
+
+def _hyperbolic_comment() -> str:
+    """The comment above HYPERBOLIC_VARIANTS, where the variants' errors are stated."""
+    import inspect
+    source = inspect.getsource(continuum)
+    block = source[:source.index("HYPERBOLIC_VARIANTS = {")].rsplit("\n\n", 1)[-1]
+    return " ".join(line.lstrip("#: ").strip() for line in block.splitlines())
 
 
 def test_atan2_takes_atans_variants():
@@ -170,8 +192,10 @@ def test_variant_names_are_checked_with_the_names_there_are():
         Site("a.py:1", "exp2", "full-d9")
     with pytest.raises(ReactorError, match="precision must be one of"):
         Site("a.py:1", "exp2", "fast-d3")
-    with pytest.raises(ReactorError, match="sinh has no precision variants"):
-        routines.jit("sinh", precision="full-d3")
+    with pytest.raises(ReactorError, match="rsqrt has no precision variants"):
+        routines.jit("rsqrt", precision="full-d3")
+    with pytest.raises(ReactorError, match="sinh has no precision variant 'full-d4'; its variants are 'full-d2', 'full-d3'"):
+        routines.jit("sinh", precision="full-d4")
     with pytest.raises(ReactorError, match="sin has no precision variant 'full-d3'; its variants are 'full-d6'"):
         routines.jit("sin", precision="full-d3")
     with pytest.raises(ReactorError, match="pow has no precision variant 'full-d3'"):
