@@ -256,9 +256,15 @@ def _def_lines(code) -> tuple[list[str], int] | None:
     first = code.co_firstlineno - 1
     if 0 <= first < len(lines):
         indent = len(lines[first]) - len(lines[first].lstrip())
+        header = lines[first].lstrip().startswith("@")  # decorators first: the def follows them
         end = first + 1
-        while end < len(lines) and (not lines[end].strip() or len(lines[end]) - len(lines[end].lstrip()) > indent
-                                    or lines[end].lstrip().startswith((")", "]", "}"))):
+        while end < len(lines):
+            text = lines[end].lstrip()
+            deeper = not lines[end].strip() or len(lines[end]) - len(text) > indent or text.startswith((")", "]", "}"))
+            if not deeper and not (header and text.startswith(("@", "def ", "async def "))):
+                break
+            if not deeper:
+                header = text.startswith("@")
             end += 1
         return lines[first:end], first + 1
     try:

@@ -566,3 +566,21 @@ def test_a_generator_helper_is_left_as_python_wrote_it():
         return a + b if x > 0.0 else a - b
 
     assert np.array_equal(uses_generator(X), np.where(X > 0, X * np.float32(3), -X))
+
+
+def test_a_decorated_bodys_edit_is_never_served_an_old_rewrite(tmp_path, monkeypatch):
+    """The rewrite's key covers the whole ``def``: a decorated body edited in place (same lines,
+    same decorator) is rewritten anew in a fresh process, not read back from the disk cache."""
+    import subprocess
+    import sys
+
+    cache_dir = tmp_path / "cache"
+    source = tmp_path / "edited_body.py"
+    program = ("import numpy as np, reactor\nfrom reactor import Float\n\n\n@reactor.kernel\n"
+               "def body(x: Float) -> Float:\n    if x > 1.0:\n        return x * {}\n    return x\n\n\n"
+               "print(body(np.array([3.0], np.float32))[0])\n")
+    env = {**__import__("os").environ, "REACTOR_CACHE_DIR": str(cache_dir)}
+    for factor, want in (("2.0", "6.0"), ("5.0", "15.0")):
+        source.write_text(program.format(factor))
+        run = subprocess.run([sys.executable, str(source)], env=env, capture_output=True, text=True, timeout=300)
+        assert run.stdout.strip() == want, run.stderr
