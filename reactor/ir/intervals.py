@@ -31,6 +31,8 @@ import typing
 import numpy as np
 from llvmlite import ir
 
+from .types import mangle
+
 INF = math.inf
 PASSES = 4  # passes before a value that still moves is widened to "anything"
 
@@ -75,16 +77,12 @@ def _scalar(t):
 
 
 def _kind(t) -> str:
+    """"f16", "f32", "f64" (LLVM's suffixes), "i" for any integer, "other"."""
     s = _scalar(t)
-    if isinstance(s, ir.FloatType):
-        return "f32"
-    if isinstance(s, ir.DoubleType):
-        return "f64"
-    if isinstance(s, ir.HalfType):
-        return "f16"
-    if isinstance(s, ir.IntType):
-        return "i"
-    return "other"
+    if not isinstance(s, (ir.IntType, ir.HalfType, ir.FloatType, ir.DoubleType)):
+        return "other"
+    suffix = mangle(s)
+    return "i" if suffix.startswith("i") else suffix
 
 
 _NP: dict[str, typing.Any] = {"f32": np.float32, "f16": np.float16, "f64": np.float64}
