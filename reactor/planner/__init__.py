@@ -10,7 +10,10 @@
 and the arrays of table and texture parameters; ``output``: what the scene stores
 (``outputs.py``). The proof is **exhaustive** when the domain can be enumerated (at most
 ``max_rows`` rows), else a **sample** sharpened around its riskiest rows and re-checked on a
-fresh sample; ``plan.proof`` says which. How the search goes: ``search.py``. The plan and its
+fresh sample; ``plan.proof`` says which. Each site's operands are measured on the rows run
+(``ranges.py``) and bounded over the whole domain by interval arithmetic on the traced IR
+(``bounds.py``): a site is built for the range that is proved (measured on an exhaustive check,
+bounded on a sample) where that drops a special-case path. How the search goes: ``search.py``. The plan and its
 figures as data: ``plan.to_json()``; ``python -m reactor plan FILE.py:NAME`` on the command line.
 """
 from __future__ import annotations

@@ -264,11 +264,12 @@ def _operand(analysis, a) -> Interval | None:
     """A call's operand: its interval; None where it is not a float value the analysis follows."""
     if isinstance(a, bool):
         return None
-    if isinstance(a, (int, float)):  # the number, and the float32 it becomes in the routine
+    if isinstance(a, (int, float)):  # the float32 it becomes (routines take Float values: float_value)
         if math.isnan(a):
             return Interval(INF, -INF, True)
-        single = float(np.float32(a))
-        return Interval(min(a, single), max(a, single))
+        with np.errstate(over="ignore"):
+            single = float(np.float32(a))
+        return Interval(single, single)
     ir_value = getattr(a, "_ir", None)
     kind = getattr(getattr(a, "kind", None), "name", None)
     if ir_value is None or kind != "Float":
