@@ -28,13 +28,21 @@ _ULP16 = 2.0 ** -10  # binary16's relative spacing: the unit of relaxed precisio
 
 # -- widening by a tier's error ------------------------------------------------------------------
 
+def _widen(v: float, rel: float, err: float, up: bool) -> float:
+    """The end ``v`` moved outward by ``err`` and ``rel`` of itself (an infinite end stays; an
+    unbounded ``rel`` sends a nonzero end to the infinity on its side)."""
+    if not math.isfinite(v):
+        return v
+    step = err + (abs(v) * rel if v else 0.0)
+    return v + step if up else v - step
+
+
 def _relative(r: Interval, rel: float, tiny: float = 0.0, keep_sign: bool = True) -> Interval:
     """``r`` widened by ``rel`` of its ends and ``tiny`` absolute (a result that may flush or go
     subnormal); ``keep_sign``: a result that cannot be negative stays so."""
     if r.lo > r.hi:
         return r
-    lo = r.lo - abs(r.lo) * rel - tiny
-    hi = r.hi + abs(r.hi) * rel + tiny
+    lo, hi = _widen(r.lo, rel, tiny, False), _widen(r.hi, rel, tiny, True)
     if keep_sign and r.lo >= 0:
         lo = max(lo, 0.0)
     return Interval(lo, hi, r.nan)
@@ -43,7 +51,7 @@ def _relative(r: Interval, rel: float, tiny: float = 0.0, keep_sign: bool = True
 def _absolute(r: Interval, err: float, rel: float = 0.0) -> Interval:
     if r.lo > r.hi:
         return r
-    return Interval(r.lo - err - abs(r.lo) * rel, r.hi + err + abs(r.hi) * rel, r.nan)
+    return Interval(_widen(r.lo, rel, err, False), _widen(r.hi, rel, err, True), r.nan)
 
 
 def _monotone(x: Interval, fn, lo_domain: float = -INF, increasing: bool = True) -> Interval:
@@ -98,7 +106,8 @@ def pow_(x: Interval, y: Interval) -> Interval:
     """exp2(y log2 x) for x >= 0; anything where x may be negative (NaN or a signed power)."""
     if x.lo < 0 and not x.empty:
         return iv.ANY
-    return _exp2_of(iv.mul(y, _log2_of(x), "f64"))
+    r = _exp2_of(iv.mul(y, _log2_of(x), "f64"))
+    return _signed_zero(x, r) if y.lo < 0 else r
 
 
 def sqrt(x: Interval) -> Interval:
@@ -107,7 +116,14 @@ def sqrt(x: Interval) -> Interval:
 
 def rsqrt(x: Interval) -> Interval:
     r = _monotone(x, lambda v: 1 / math.sqrt(v) if v > 0 else INF, lo_domain=0.0, increasing=False)
-    return _relative(r, 4 * _ULP16)
+    r = _relative(r, 4 * _ULP16)
+    return _signed_zero(x, r)
+
+
+def _signed_zero(x: Interval, r: Interval) -> Interval:
+    """``r`` joined with -inf where x may be zero: intervals do not tell -0 from +0, and
+    rsqrt(-0) and pow(-0, y < 0) are -inf."""
+    return r.join(Interval(-INF, -INF)) if x.has(0.0) else r
 
 
 def rcp(x: Interval) -> Interval:
@@ -116,7 +132,8 @@ def rcp(x: Interval) -> Interval:
 
 def _periodic(x: Interval, fn, peaks: float) -> Interval:
     """sin or cos over x: its ends, and +-1 where a peak (peaks + k pi/2 ... ) lies inside."""
-    if not x.finite or x.hi - x.lo >= 2 * math.pi:
+    if not x.finite or x.hi - x.lo >= 2 * math.pi or max(-x.lo, x.hi) > 2.0 ** 20:  # (far out, the
+        # peaks k pi + c cannot be stepped through in float64: a period is below its spacing)
         r = Interval(-1.0, 1.0, x.nan or not x.finite)
     else:
         a, b = fn(x.lo), fn(x.hi)
@@ -256,8 +273,21 @@ def _summary(fn: Fn, args: tuple):
         ops = [_operand(analysis, a) for a in args]
         if any(o is None for o in ops):
             return iv.ANY
-        return fn(*ops)
+        return as_float32(fn(*ops))
     return interval
+
+
+_MAX32 = float(np.finfo(np.float32).max)
+
+
+def as_float32(r: Interval) -> Interval:
+    """A routine's float64 interval as its float32 results lie: an end beyond the largest float32
+    goes to the infinity it may round to (and a lower end there stays at the largest float)."""
+    if r.lo > r.hi:
+        return r
+    lo = -INF if r.lo < -_MAX32 else _MAX32 if r.lo > _MAX32 else r.lo
+    hi = INF if r.hi > _MAX32 else -_MAX32 if r.hi < -_MAX32 else r.hi
+    return Interval(lo, hi, r.nan)
 
 
 def _operand(analysis, a) -> Interval | None:

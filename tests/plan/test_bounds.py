@@ -170,14 +170,20 @@ def test_neighbour_rows_stay_in_the_declared_domain():
         assert col.min() >= 0.0 and col.max() <= 1.0
 
 
-@pytest.mark.parametrize("routine, lo, hi", [("log2", 0.0, 8.0), ("sin", -10.0, 10.0), ("rsqrt", 0.0, 4.0),
-                                              ("atan2", -1.0, 1.0), ("cosh", -3.0, 2.0), ("tan", 0.0, 1.5)])
+@pytest.mark.parametrize("routine, lo, hi", [
+    ("exp2", -30.0, 30.0), ("exp", -20.0, 20.0), ("log2", 0.0, 8.0), ("log", 1e-3, 100.0), ("pow", 0.0, 3.0),
+    ("sqrt", 0.0, 9.0), ("rsqrt", 0.0, 4.0), ("rcp", 0.25, 8.0), ("sin", -10.0, 10.0), ("cos", -100.0, 100.0),
+    ("tan", 0.0, 1.5), ("atan", -10.0, 10.0), ("asin", -1.0, 1.0), ("acos", -1.0, 1.0), ("atan2", -1.0, 1.0),
+    ("sinh", -5.0, 5.0), ("cosh", -3.0, 2.0), ("tanh", -5.0, 5.0)])
 def test_routine_summaries_hold_on_the_routines(routine, lo, hi):
-    fn = bounds.ROUTINES[routine]
+    """Every routine's interval function, on its relaxed build (the least accurate tier it covers)."""
+    assert set(bounds.ROUTINES) == {"exp2", "exp", "log2", "log", "pow", "sqrt", "rsqrt", "rcp", "sin", "cos", "tan",
+                                    "atan", "asin", "acos", "atan2", "sinh", "cosh", "tanh"}
+    fn = (lambda *ops: bounds.as_float32(bounds.ROUTINES[routine](*ops)))
     x = np.linspace(lo, hi, 4097).astype(np.float32)
     import routines
     body = getattr(routines, routine)
-    if routine == "atan2":
+    if routine in ("atan2", "pow"):
         u = reactor.kernel(lambda a, b: body(a, b, precision="relaxed"), signatures="float32(float32, float32)")
         got = u(x, x[::-1].copy())
         r = fn(Interval(lo, hi), Interval(lo, hi))
@@ -186,3 +192,37 @@ def test_routine_summaries_hold_on_the_routines(routine, lo, hi):
         got = u(x)
         r = fn(Interval(lo, hi))
     assert _inside(r, got)
+
+
+_RELAXED: dict = {}
+
+
+def _relaxed(routine: str):
+    import routines
+    if routine not in _RELAXED:
+        body = getattr(routines, routine)
+        two = routine in ("atan2", "pow")
+        _RELAXED[routine] = reactor.kernel(
+            (lambda a, b: body(a, b, precision="relaxed")) if two else (lambda a: body(a, precision="relaxed")),
+            signatures="float32(float32, float32)" if two else "float32(float32)")
+    return _RELAXED[routine]
+
+
+ANY_F32 = st.floats(width=32, allow_nan=False, allow_infinity=True)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(sorted(bounds.ROUTINES)), ANY_F32, ANY_F32, ANY_F32, ANY_F32,
+       st.lists(st.floats(0, 1), min_size=1, max_size=16))
+def test_routine_summaries_hold_anywhere(routine, a0, a1, b0, b1, ts):
+    """On any intervals (infinities included), the relaxed routine's results at their ends and
+    points inside lie in the summary's interval (NaN only where it allows NaN)."""
+    a, b = _interval(a0, a1), _interval(b0, b1)
+    x = np.array([_points(a, t) for t in ts] + [a.lo, a.hi], np.float32)
+    y = np.array([_points(b, t) for t in ts] + [b.hi, b.lo], np.float32)
+    fn = (lambda *ops: bounds.as_float32(bounds.ROUTINES[routine](*ops)))
+    with np.errstate(all="ignore"):
+        if routine in ("atan2", "pow"):
+            assert _inside(fn(a, b), _relaxed(routine)(x, y)), (routine, a, b)
+        else:
+            assert _inside(fn(a), _relaxed(routine)(x)), (routine, a)
