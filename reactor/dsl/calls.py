@@ -192,6 +192,7 @@ class CallResult:
     where: str
     args: tuple
     result: typing.Any
+    block: typing.Any = None  # the IR block the call was emitted in
 
 
 @contextlib.contextmanager
@@ -209,4 +210,4 @@ def _report(name: str, args: tuple, result) -> None:
     found = _results.get()
     if found is None or not _em.building() or _em.current().module.routine_depth:
         return
-    found.append(CallResult(name, where_called(), tuple(args), result))
+    found.append(CallResult(name, where_called(), tuple(args), result, _em.current().block))

@@ -293,9 +293,27 @@ class Analysis:
         self.keep: list = []  # the IR objects whose ids are keys, kept alive
         self.passes = 0
         self.moved = False  # whether a store grew an alloca's hull in this pass
+        self.block = None  # the block of the instruction being evaluated
+        self.facts: dict[int, tuple] = {}  # block -> (fcmp, truth) its paths all took (branch_facts)
 
     def of(self, v) -> Interval:
-        """The interval of the IR value ``v`` (an instruction, argument or constant)."""
+        """The interval of the IR value ``v`` (an instruction, argument or constant) in the block
+        being evaluated (``block``): narrowed by the branch conditions every path to it took."""
+        found = self.raw(v)
+        for cond, truth in self.facts.get(id(self.block), ()):
+            found = narrowed(self, found, cond, v, truth)
+        return found
+
+    def at(self, v, block) -> Interval:
+        """The interval of ``v`` where ``block`` runs."""
+        outer, self.block = self.block, block
+        try:
+            return self.of(v)
+        finally:
+            self.block = outer
+
+    def raw(self, v) -> Interval:
+        """The interval of ``v`` anywhere in the function."""
         if isinstance(v, ir.Constant):
             return _constant(v)
         if isinstance(v, ir.Argument):
@@ -310,10 +328,12 @@ class Analysis:
         instructions = [i for b in self.function.blocks for i in b.instructions]
         self.keep = instructions
         self._memory(instructions)
+        self.facts = branch_facts(self.function)
         for n in itertools.count():  # ends: past PASSES a value or store changes once more at most
             self.passes, self.moved = n, False
             changed = False
             for inst in instructions:
+                self.block = inst.parent
                 new = self._eval(inst)
                 if new is None:
                     continue
@@ -327,6 +347,7 @@ class Analysis:
                         new = anything(inst.type)  # still moving: widened
                 self.values[key] = new
                 changed = True
+            self.block = None
             if not changed and not self.moved:
                 return self
         raise AssertionError("unreachable")
@@ -386,6 +407,71 @@ class Analysis:
             return None if isinstance(inst.type, ir.PointerType) else anything(inst.type)
         rule = _RULES.get(op)
         return rule(self, inst) if rule is not None else anything(inst.type)
+
+
+def branch_facts(function) -> dict[int, tuple]:
+    """Per block (by id): the fcmp conditions, with their truth, that every path from the entry
+    to it took (a conditional branch's edge gives its condition, through ``and``/``or``/``not``;
+    a block joins what all its predecessors' paths share)."""
+    blocks = function.blocks
+    edges: dict[int, list] = {id(b): [] for b in blocks}  # block -> [(predecessor, facts of the edge)]
+    for b in blocks:
+        term = b.instructions[-1] if b.instructions else None
+        if term is None or term.opname != "br":  # ret, unreachable; a switch's edges say nothing
+            targets = [] if term is None or term.opname != "switch" else \
+                [term.default] + [target for _, target in term.cases]
+            for target in targets:
+                edges[id(target)].append((b, ()))
+            continue
+        if len(term.operands) == 1:
+            edges[id(term.operands[0])].append((b, ()))
+            continue
+        cond, yes, no = term.operands
+        if yes is no:
+            edges[id(yes)].append((b, ()))
+            continue
+        edges[id(yes)].append((b, tuple(_conditions(cond, True))))
+        edges[id(no)].append((b, tuple(_conditions(cond, False))))
+    known: dict[int, dict | None] = {id(b): None for b in blocks}  # None: not reached yet (every fact)
+    known[id(blocks[0])] = {}
+    changed = True
+    while changed:
+        changed = False
+        for b in blocks[1:]:
+            shared: dict | None = None
+            for pred, facts in edges[id(b)]:
+                before = known[id(pred)]
+                if before is None:
+                    continue
+                here = {**before, **{(id(c), t): (c, t) for c, t in facts}}
+                shared = here if shared is None else {k: v for k, v in shared.items() if k in here}
+            if shared is not None and (known[id(b)] is None or shared.keys() != known[id(b)].keys()):
+                known[id(b)] = shared
+                changed = True
+    return {k: tuple(v.values()) for k, v in known.items() if v}
+
+
+def _conditions(cond, truth: bool) -> list:
+    """The (fcmp, truth) pairs that ``cond`` being ``truth`` implies."""
+    op = getattr(cond, "opname", None)
+    if op == "fcmp":
+        return [(cond, truth)]
+    if op in ("and", "or") and isinstance(cond.type, ir.IntType) and cond.type.width == 1:
+        if (op == "and") == truth:  # both sides hold (and true) or both fail (or false)
+            return _conditions(cond.operands[0], truth) + _conditions(cond.operands[1], truth)
+        return []
+    if op == "xor" and isinstance(cond.type, ir.IntType) and cond.type.width == 1:
+        for k in (0, 1):
+            c = cond.operands[1 - k]
+            if isinstance(c, ir.Constant) and c.constant in (1, True, -1):
+                return _conditions(cond.operands[k], not truth)
+    if op == "select" and isinstance(cond.type, ir.IntType) and cond.type.width == 1:
+        test, yes, no = cond.operands
+        if truth and isinstance(no, ir.Constant) and no.constant in (0, False):  # test && yes
+            return _conditions(test, True) + _conditions(yes, True)
+        if not truth and isinstance(yes, ir.Constant) and yes.constant in (1, True, -1):  # test || no
+            return _conditions(test, False) + _conditions(no, False)
+    return []
 
 
 def _is_aggregate(t) -> bool:
@@ -459,7 +545,13 @@ _NEGATED = {"<": ">=", "<=": ">", ">": "<=", ">=": "<", "==": "!=", "!=": "=="}
 def _given(a: Analysis, cond, value, truth: bool) -> Interval:
     """The interval of ``value`` where the fcmp ``cond`` is ``truth`` (where ``value`` is one
     of its operands; else its interval)."""
-    v = a.of(value)
+    return narrowed(a, a.of(value), cond, value, truth)
+
+
+def narrowed(a: Analysis, v: Interval, cond, value, truth: bool) -> Interval:
+    """``v``, the interval of ``value``, narrowed by the fcmp ``cond`` being ``truth`` (``v``
+    where ``value`` is not one of its operands). The other operand's interval is taken as the
+    analysis has it, unnarrowed."""
     if getattr(cond, "opname", None) != "fcmp" or not any(value is x for x in cond.operands[:2]):
         return v
     pred = _PREDICATES.get(cond.op[1:])
@@ -470,7 +562,7 @@ def _given(a: Analysis, cond, value, truth: bool) -> Interval:
     relation, nan_allowed = (pred, not ordered) if truth else (_NEGATED[pred], ordered)
     if value is q:  # the relation read from q's side
         relation = {"<": ">", "<=": ">=", ">": "<", ">=": "<="}.get(relation, relation)
-    other = a.of(p if value is q else q)
+    other = a.raw(p if value is q else q)
     if nan_allowed and other.nan:
         return v  # an unordered pair takes this side whatever value holds
     lo, hi = v.lo, v.hi

@@ -244,13 +244,13 @@ def site_bounds(kernel, hulls: dict[str, Interval]) -> dict[tuple[str, str], tup
         fn = ROUTINES.get(call.name)
         result = getattr(call.result, "_ir", None)
         if fn is not None and result is not None and hasattr(result, "opname"):
-            summaries[id(result)] = _summary(fn, call.args)
+            summaries[id(result)] = _summary(fn, call.args, call.block)
     analysis = iv.analyse(function, params, summaries)
     found: dict[tuple[str, str], list] = {}
     for call in calls:
         if not call.where:
             continue
-        operands = [_operand(analysis, a) for a in call.args[:2 if call.name in ("pow", "atan2") else 1]]
+        operands = [_operand(analysis, a, call.block) for a in call.args[:2 if call.name in ("pow", "atan2") else 1]]
         old = found.get((call.where, call.name))
         found[(call.where, call.name)] = operands if old is None else \
             [a if a is None or b is None else a.join(b) for a, b in zip(old, operands)]
@@ -268,9 +268,9 @@ def checked_bounds(search, seen: dict) -> tuple[dict, list]:
     return {k: v for k, v in found.items() if k not in unsound}, unsound
 
 
-def _summary(fn: Fn, args: tuple):
+def _summary(fn: Fn, args: tuple, block):
     def interval(analysis) -> Interval:
-        ops = [_operand(analysis, a) for a in args]
+        ops = [_operand(analysis, a, block) for a in args]
         if any(o is None for o in ops):
             return iv.ANY
         return as_float32(fn(*ops))
@@ -290,8 +290,9 @@ def as_float32(r: Interval) -> Interval:
     return Interval(lo, hi, r.nan)
 
 
-def _operand(analysis, a) -> Interval | None:
-    """A call's operand: its interval; None where it is not a float value the analysis follows."""
+def _operand(analysis, a, block) -> Interval | None:
+    """A call's operand: its interval where the call runs (``block``: narrowed by the branches
+    taken to it); None where it is not a float value the analysis follows."""
     if isinstance(a, bool):
         return None
     if isinstance(a, (int, float)):  # the float32 it becomes (routines take Float values: float_value)
@@ -304,7 +305,7 @@ def _operand(analysis, a) -> Interval | None:
     kind = getattr(getattr(a, "kind", None), "name", None)
     if ir_value is None or kind != "Float":
         return None
-    return analysis.of(ir_value)
+    return analysis.at(ir_value, block)
 
 
 def _as_range(x: Interval | None):

@@ -113,6 +113,28 @@ def looped(x: Float) -> Float:
     return gl.exp2(acc.value)
 
 
+@reactor.kernel
+def guarded(x: Float) -> Float:
+    r = x * 0.0
+    if x > 0.25:
+        r = gl.log2(x)
+    elif x < -0.5:
+        r = gl.exp2(x)
+    else:
+        r = gl.sqrt(x + 1.0)
+    return r
+
+
+def test_a_site_inside_a_branch_is_bounded_by_the_conditions_that_lead_to_it():
+    found = site_bounds(reactor.kernel_of(guarded), {"x": Interval(-1.0, 1.0)})
+    by = {routine: (spans[0].lo, spans[0].hi) for (_, routine), spans in found.items()}
+    assert by == {"log2": (0.25, 1.0), "exp2": (-1.0, -0.5), "sqrt": (0.5, 1.25)}
+    search = Search(guarded, {"x": Range(-1.0, 1.0)}, "unorm8", samples=1 << 12, seed=0, max_rows=1 << 24,
+                    fma=None, log=None)
+    proved, unsound = checked_bounds(search, site_ranges(search))
+    assert not unsound and len(proved) == 3
+
+
 def test_a_loop_widens_to_a_sound_bound():
     (span,) = _site(looped, {"x": Interval(0.0, 1.0)})
     assert span.lo <= 0.0 and span.hi >= 1.5 ** 4 * 1 + 1.5 ** 3 + 1.5 ** 2 + 1.5 + 1
@@ -232,7 +254,8 @@ _LEAVES = st.one_of(st.sampled_from(["x", "y"]), st.floats(-4, 4, width=32))
 _TREES = st.recursive(_LEAVES, lambda inner: st.one_of(
     st.tuples(st.sampled_from(["+", "-", "*", "/", "min", "max"]), inner, inner),
     st.tuples(st.sampled_from(["abs", "neg", "floor", "sqrt_abs", "square"]), inner),
-    st.tuples(st.just("select"), st.sampled_from(["<", ">"]), inner, inner, inner, inner)), max_leaves=8)
+    st.tuples(st.sampled_from(["select", "if"]), st.sampled_from(["<", ">"]), inner, inner, inner, inner)),
+    max_leaves=8)
 
 
 def _evaluate(tree, x, y):
@@ -242,11 +265,18 @@ def _evaluate(tree, x, y):
     if isinstance(tree, float):
         return tree
     op, *args = tree
-    if op == "select":
+    if op in ("select", "if"):
         test, a, b, yes, no = args
         a, b = _evaluate(a, x, y), _evaluate(b, x, y)
         cond = (x * 0.0 + a) < b if test == "<" else (x * 0.0 + a) > b
-        return Select(cond, _evaluate(yes, x, y) + x * 0.0, _evaluate(no, x, y) + x * 0.0)
+        if op == "select":
+            return Select(cond, _evaluate(yes, x, y) + x * 0.0, _evaluate(no, x, y) + x * 0.0)
+        r = Variable(x * 0.0)            # a per-lane branch: each side computed where it is taken
+        with reactor.If(cond):
+            r.set(_evaluate(yes, x, y) + x * 0.0)
+        with reactor.Else():
+            r.set(_evaluate(no, x, y) + x * 0.0)
+        return r.value
     vals = [_evaluate(a, x, y) for a in args]
     vals = [v if not isinstance(v, float) else x * 0.0 + v for v in vals]
     if op in ("+", "-", "*", "/"):
@@ -262,8 +292,9 @@ def _evaluate(tree, x, y):
 @settings(max_examples=25, deadline=None)
 @given(_TREES)
 def test_random_expressions_stay_in_their_bound_on_the_compiled_kernel(tree):
-    """A random expression of x in [-2, 3] and y in [0.5, 4]: its interval (the operand of a sqrt
-    site) holds every value the compiled kernel computes on 4,096 rows of the domain and its ends."""
+    """A random expression of x in [-2, 3] and y in [0.5, 4], with selects and per-lane branches:
+    its interval (the operand of a sqrt site) holds every value the compiled kernel computes on 4,096
+    rows of the domain and its ends."""
     site = reactor.kernel(lambda x, y: gl.sqrt(_evaluate(tree, x, y)), signatures="float32(float32, float32)")
     value = reactor.kernel(lambda x, y: _evaluate(tree, x, y), signatures="float32(float32, float32)")
     (span,) = _site(site, {"x": Interval(-2.0, 3.0), "y": Interval(0.5, 4.0)})
