@@ -11,7 +11,10 @@ lane can hold, and whether NaN can come. It is sound, not tight:
   ``0 * inf``, ``0 / 0``, a NaN operand);
 * a vector's interval is the hull of its lanes;
 * ``select`` and ``phi`` join their operands (``select`` takes one side where its condition is
-  decided); comparisons are decided where the intervals do not overlap;
+  decided, each side narrowed by the comparison that chooses it); comparisons are decided where the
+  intervals do not overlap;
+* a value used in a block is narrowed by the comparisons every path to that block took
+  (:func:`branch_facts`: a conditional branch's edge, through ``and``, ``or`` and ``not``);
 * memory: a load from a local variable (``alloca``, DSL Variables) is the hull of every store to
   it anywhere in the function, so a loop's variables reach a fixed point; where a pass still
   widens a value after :data:`PASSES` passes, it goes to "anything" (widening); a load from any
@@ -445,7 +448,8 @@ def branch_facts(function) -> dict[int, tuple]:
                     continue
                 here = {**before, **{(id(c), t): (c, t) for c, t in facts}}
                 shared = here if shared is None else {k: v for k, v in shared.items() if k in here}
-            if shared is not None and (known[id(b)] is None or shared.keys() != known[id(b)].keys()):
+            before_b = known[id(b)]
+            if shared is not None and (before_b is None or shared.keys() != before_b.keys()):
                 known[id(b)] = shared
                 changed = True
     return {k: tuple(v.values()) for k, v in known.items() if v}
